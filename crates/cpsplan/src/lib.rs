@@ -1,0 +1,16 @@
+//! # cpsplan
+//!
+//! Scan planning for a cooperative multi-robot laser-scanning system (CPS-SLAM,
+//! Kurazume et al., IROS 2015). The modules follow the paper's pipeline (Fig. 3):
+//!
+//! - [`world`]: occupancy grids, built-in maps, resampling, coverage.
+//! - [`sensing`]: the simulated omni-directional scanner and exact grid visibility.
+//! - [`planning`]: the parent planner of section IV-A (border, band, k-means
+//!   candidates, Eq. 1 scores) and safe paths.
+//! - [`mission`]: the scan → plan → move loop and its records.
+
+pub mod geom;
+pub mod world;
+
+pub use geom::{Cell, Point};
+pub use world::{CellState, GridGeometry, OccupancyGrid};
