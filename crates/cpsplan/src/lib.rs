@@ -9,8 +9,14 @@
 //!   candidates, Eq. 1 scores) and safe paths.
 //! - [`mission`]: the scan → plan → move loop and its records.
 
+pub mod config;
 pub mod geom;
+pub mod mission;
+pub mod planning;
+pub mod sensing;
 pub mod world;
 
+pub use config::Config;
 pub use geom::{Cell, Point};
+pub use mission::{run_episode, Episode, MissionError, StopReason};
 pub use world::{CellState, GridGeometry, OccupancyGrid};

@@ -240,9 +240,15 @@ mod tests {
     #[test]
     fn lower_left_corner_is_origin() {
         let g = GridGeometry::new(10, 10, 0.5, Point::new(1.0, 2.0));
-        assert_eq!(g.world_to_cell(Point::new(1.01, 2.01)), Some(Cell::new(0, 0)));
+        assert_eq!(
+            g.world_to_cell(Point::new(1.01, 2.01)),
+            Some(Cell::new(0, 0))
+        );
         assert_eq!(g.world_to_cell(Point::new(0.99, 2.01)), None);
-        assert_eq!(g.world_to_cell(Point::new(5.99, 6.99)), Some(Cell::new(9, 9)));
+        assert_eq!(
+            g.world_to_cell(Point::new(5.99, 6.99)),
+            Some(Cell::new(9, 9))
+        );
         assert_eq!(g.world_to_cell(Point::new(6.01, 3.0)), None);
         assert_eq!(g.cell_center(Cell::new(1, 0)), Point::new(1.75, 2.25));
     }

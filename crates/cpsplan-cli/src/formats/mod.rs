@@ -1,0 +1,3 @@
+//! Map and record file formats.
+
+pub mod rosmap;

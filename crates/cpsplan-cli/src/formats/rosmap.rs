@@ -1,0 +1,611 @@
+//! ROS `map_server` maps: a YAML metadata file next to a PGM or PNG image.
+//!
+//! Conventions (DESIGN.md "Frames", ROS `map_server`):
+//! - the image's first row is the *top* of the map; grid row 0 is the bottom, so
+//!   rows are flipped on load and save;
+//! - `origin: [x, y, yaw]` is the pose of the lower-left pixel; `yaw` becomes
+//!   [`GridGeometry::yaw`];
+//! - a pixel value `v` (RGB channels averaged, alpha ignored) gives the occupancy
+//!   `p = (255 − v) / 255`, or `p = v / 255` with `negate`;
+//! - in `trinary` and `scale` modes a cell is Occupied if `p > occupied_thresh`,
+//!   Free if `p < free_thresh`, Unknown otherwise (`scale`'s intermediate
+//!   probabilities have no place in a three-state grid);
+//! - in `raw` mode the value is the occupancy in percent: `v == 0` is Free,
+//!   `v == 100` is Occupied, and every other value (255 = ROS "unknown", and the
+//!   intermediate probabilities 1–99) is Unknown — the conservative reading, since
+//!   Unknown is solid in a ground truth. `negate` and the thresholds do not apply.
+//!
+//! Only `image`, `resolution` and `origin` are required; `negate` defaults to
+//! false, `occupied_thresh` to 0.65, `free_thresh` to 0.196 and `mode` to
+//! `trinary` (the ROS defaults). Unknown keys are ignored.
+
+use std::fmt::Write as _;
+use std::fs;
+use std::io::{self, Write as _};
+use std::path::{Path, PathBuf};
+
+use cpsplan::{CellState, GridGeometry, OccupancyGrid, Point};
+use image::{DynamicImage, ImageReader};
+use serde::Deserialize;
+
+/// Default `occupied_thresh` (ROS `map_server`).
+pub const DEFAULT_OCCUPIED_THRESH: f64 = 0.65;
+/// Default `free_thresh` (ROS `map_server`).
+pub const DEFAULT_FREE_THRESH: f64 = 0.196;
+
+/// Pixel value written for a Free cell.
+const PIXEL_FREE: u8 = 254;
+/// Pixel value written for an Occupied cell.
+const PIXEL_OCCUPIED: u8 = 0;
+/// Pixel value written for an Unknown cell.
+const PIXEL_UNKNOWN: u8 = 205;
+
+/// Why a map file could not be read or written. Every variant names the file.
+#[derive(Debug, thiserror::Error)]
+pub enum FormatError {
+    /// The file could not be read, written or renamed.
+    #[error("{}: {source}", path.display())]
+    Io {
+        /// The file concerned.
+        path: PathBuf,
+        /// The underlying error.
+        #[source]
+        source: io::Error,
+    },
+    /// The YAML could not be parsed.
+    #[error("{}: bad YAML: {message}", path.display())]
+    Yaml {
+        /// The YAML file.
+        path: PathBuf,
+        /// The parser's message.
+        message: String,
+    },
+    /// A required key is absent from the YAML.
+    #[error("{}: missing required key `{key}`", path.display())]
+    MissingKey {
+        /// The YAML file.
+        path: PathBuf,
+        /// The missing key.
+        key: &'static str,
+    },
+    /// A key (or argument) has an unusable value.
+    #[error("{}: bad value for `{key}`: {message}", path.display())]
+    BadValue {
+        /// The file concerned.
+        path: PathBuf,
+        /// The key or argument.
+        key: &'static str,
+        /// What is wrong with it.
+        message: String,
+    },
+    /// The image is of a kind that cannot be read as a map.
+    #[error("{}: unsupported image: {message}", path.display())]
+    UnsupportedImage {
+        /// The image file.
+        path: PathBuf,
+        /// What is unsupported.
+        message: String,
+    },
+    /// The image could not be decoded.
+    #[error("{}: cannot decode image: {source}", path.display())]
+    ImageDecode {
+        /// The image file.
+        path: PathBuf,
+        /// The decoder's error.
+        #[source]
+        source: image::ImageError,
+    },
+}
+
+impl FormatError {
+    fn io(path: &Path, source: io::Error) -> Self {
+        Self::Io {
+            path: path.to_path_buf(),
+            source,
+        }
+    }
+
+    fn bad(path: &Path, key: &'static str, message: impl Into<String>) -> Self {
+        Self::BadValue {
+            path: path.to_path_buf(),
+            key,
+            message: message.into(),
+        }
+    }
+}
+
+/// How pixel values become occupancy (ROS `map_server` `mode`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum MapMode {
+    /// Thresholded into free / occupied / unknown (the default).
+    #[default]
+    Trinary,
+    /// Thresholded like `Trinary` here (a three-state grid has no intermediate values).
+    Scale,
+    /// Pixel values are occupancy percentages: 0 free, 100 occupied, else unknown.
+    Raw,
+}
+
+/// The contents of a ROS `map_server` YAML file, validated.
+#[derive(Debug, Clone, PartialEq)]
+pub struct MapMetadata {
+    /// The image file, resolved against the YAML file's directory.
+    pub image: PathBuf,
+    /// Cell width in metres (finite, > 0).
+    pub resolution: f64,
+    /// Pose `[x, y, yaw]` of the lower-left pixel (metres, radians).
+    pub origin: [f64; 3],
+    /// Whether white means occupied.
+    pub negate: bool,
+    /// Occupancy above which a cell is Occupied (in `[0, 1]`).
+    pub occupied_thresh: f64,
+    /// Occupancy below which a cell is Free (in `[0, 1]`, below `occupied_thresh`).
+    pub free_thresh: f64,
+    /// How pixel values are interpreted.
+    pub mode: MapMode,
+}
+
+/// `negate` as ROS files write it: `0`/`1` or `true`/`false`.
+#[derive(Deserialize)]
+#[serde(untagged)]
+enum Flag {
+    Bool(bool),
+    Int(i64),
+    Float(f64),
+    Text(String),
+    Other(serde::de::IgnoredAny),
+}
+
+/// The YAML as written, before validation.
+#[derive(Deserialize)]
+struct RawMetadata {
+    image: Option<String>,
+    resolution: Option<f64>,
+    origin: Option<Vec<f64>>,
+    negate: Option<Flag>,
+    occupied_thresh: Option<f64>,
+    free_thresh: Option<f64>,
+    mode: Option<String>,
+}
+
+impl MapMetadata {
+    /// Read and validate a YAML file.
+    pub fn read(yaml: &Path) -> Result<Self, FormatError> {
+        let text = fs::read_to_string(yaml).map_err(|e| FormatError::io(yaml, e))?;
+        Self::parse(&text, yaml)
+    }
+
+    /// Parse and validate YAML text; `yaml` is the file it came from (for messages
+    /// and to resolve a relative `image:`).
+    pub fn parse(text: &str, yaml: &Path) -> Result<Self, FormatError> {
+        let mut options = serde_saphyr::Options::default();
+        options.with_snippet = false; // one-line messages; the snippet says `<input>`
+        let raw: RawMetadata =
+            serde_saphyr::from_str_with_options(text, options).map_err(|e| FormatError::Yaml {
+                path: yaml.to_path_buf(),
+                message: e.to_string(),
+            })?;
+        let missing = |key| FormatError::MissingKey {
+            path: yaml.to_path_buf(),
+            key,
+        };
+        let image = raw.image.ok_or_else(|| missing("image"))?;
+        if image.trim().is_empty() {
+            return Err(FormatError::bad(yaml, "image", "empty path"));
+        }
+        let image = PathBuf::from(image);
+        let image = if image.is_absolute() {
+            image
+        } else {
+            yaml.parent().unwrap_or(Path::new("")).join(image)
+        };
+
+        let resolution = raw.resolution.ok_or_else(|| missing("resolution"))?;
+        check_resolution(resolution, yaml, "resolution")?;
+
+        let origin = raw.origin.ok_or_else(|| missing("origin"))?;
+        let origin: [f64; 3] = match origin.as_slice() {
+            [x, y, yaw] => [*x, *y, *yaw],
+            [x, y] => [*x, *y, 0.0],
+            other => {
+                return Err(FormatError::bad(
+                    yaml,
+                    "origin",
+                    format!("expected [x, y, yaw], got {} numbers", other.len()),
+                ))
+            }
+        };
+        if origin.iter().any(|v| !v.is_finite()) {
+            return Err(FormatError::bad(yaml, "origin", "not finite"));
+        }
+
+        let negate = match raw.negate {
+            None | Some(Flag::Bool(false)) | Some(Flag::Int(0)) => false,
+            Some(Flag::Bool(true)) | Some(Flag::Int(1)) => true,
+            Some(other) => {
+                let got = match other {
+                    Flag::Int(n) => n.to_string(),
+                    Flag::Float(x) => format!("{x:?}"),
+                    Flag::Text(t) => format!("{t:?}"),
+                    Flag::Bool(b) => b.to_string(),
+                    Flag::Other(_) => "a list or mapping".to_string(),
+                };
+                return Err(FormatError::bad(
+                    yaml,
+                    "negate",
+                    format!("expected 0, 1, true or false, got {got}"),
+                ));
+            }
+        };
+
+        let occupied_thresh = raw.occupied_thresh.unwrap_or(DEFAULT_OCCUPIED_THRESH);
+        let free_thresh = raw.free_thresh.unwrap_or(DEFAULT_FREE_THRESH);
+        for (key, v) in [
+            ("occupied_thresh", occupied_thresh),
+            ("free_thresh", free_thresh),
+        ] {
+            if !(0.0..=1.0).contains(&v) {
+                return Err(FormatError::bad(
+                    yaml,
+                    key,
+                    format!("{v} is outside [0, 1]"),
+                ));
+            }
+        }
+        if free_thresh >= occupied_thresh {
+            return Err(FormatError::bad(
+                yaml,
+                "free_thresh",
+                format!("{free_thresh} is not below occupied_thresh {occupied_thresh}"),
+            ));
+        }
+
+        let mode = match raw.mode.as_deref().map(str::trim) {
+            None => MapMode::Trinary,
+            Some(m) if m.eq_ignore_ascii_case("trinary") => MapMode::Trinary,
+            Some(m) if m.eq_ignore_ascii_case("scale") => MapMode::Scale,
+            Some(m) if m.eq_ignore_ascii_case("raw") => MapMode::Raw,
+            Some(m) => {
+                return Err(FormatError::bad(
+                    yaml,
+                    "mode",
+                    format!("expected trinary, scale or raw, got {m:?}"),
+                ))
+            }
+        };
+
+        Ok(Self {
+            image,
+            resolution,
+            origin,
+            negate,
+            occupied_thresh,
+            free_thresh,
+            mode,
+        })
+    }
+
+    /// Metadata for a plain image without YAML: default thresholds, origin (0, 0, 0).
+    pub fn for_image(image: &Path, resolution: f64) -> Self {
+        Self {
+            image: image.to_path_buf(),
+            resolution,
+            origin: [0.0; 3],
+            negate: false,
+            occupied_thresh: DEFAULT_OCCUPIED_THRESH,
+            free_thresh: DEFAULT_FREE_THRESH,
+            mode: MapMode::Trinary,
+        }
+    }
+
+    /// The grid's placement: size from the image, the rest from this metadata.
+    pub fn geometry(&self, width: usize, height: usize) -> GridGeometry {
+        GridGeometry {
+            width,
+            height,
+            resolution: self.resolution,
+            origin: Point::new(self.origin[0], self.origin[1]),
+            yaw: self.origin[2],
+        }
+    }
+
+    /// Read the image this metadata refers to into a grid.
+    pub fn load_grid(&self) -> Result<OccupancyGrid, FormatError> {
+        check_resolution(self.resolution, &self.image, "resolution")?;
+        let img = decode_image(&self.image)?;
+        let (w, h) = (img.width() as usize, img.height() as usize);
+        if w == 0 || h == 0 {
+            return Err(FormatError::UnsupportedImage {
+                path: self.image.clone(),
+                message: "image has no pixels".into(),
+            });
+        }
+        let cells = classify_pixels(&img, &self.image, self.classifier())?;
+        OccupancyGrid::from_cells(self.geometry(w, h), cells).ok_or_else(|| {
+            FormatError::UnsupportedImage {
+                path: self.image.clone(),
+                message: "pixel count does not match the image size".into(),
+            }
+        })
+    }
+
+    /// The rule turning a pixel value (0–255, channels averaged) into a cell state.
+    fn classifier(&self) -> impl Fn(f64) -> CellState {
+        let (mode, negate) = (self.mode, self.negate);
+        let (occ, free) = (self.occupied_thresh, self.free_thresh);
+        move |v: f64| match mode {
+            MapMode::Raw => match v.round() as i64 {
+                0 => CellState::Free,
+                100 => CellState::Occupied,
+                _ => CellState::Unknown,
+            },
+            MapMode::Trinary | MapMode::Scale => {
+                let p = if negate {
+                    v / 255.0
+                } else {
+                    (255.0 - v) / 255.0
+                };
+                if p > occ {
+                    CellState::Occupied
+                } else if p < free {
+                    CellState::Free
+                } else {
+                    CellState::Unknown
+                }
+            }
+        }
+    }
+}
+
+fn check_resolution(resolution: f64, path: &Path, key: &'static str) -> Result<(), FormatError> {
+    if resolution.is_finite() && resolution > 0.0 {
+        Ok(())
+    } else {
+        Err(FormatError::bad(
+            path,
+            key,
+            format!("{resolution} is not a finite positive number of metres"),
+        ))
+    }
+}
+
+/// Decode a PNG or PNM (P2/P5 and friends) image, detecting the format by content.
+fn decode_image(path: &Path) -> Result<DynamicImage, FormatError> {
+    let reader = ImageReader::open(path)
+        .map_err(|e| FormatError::io(path, e))?
+        .with_guessed_format()
+        .map_err(|e| FormatError::io(path, e))?;
+    if reader.format().is_none() {
+        return Err(FormatError::UnsupportedImage {
+            path: path.to_path_buf(),
+            message: "not a PNG or PGM/PNM image".into(),
+        });
+    }
+    reader.decode().map_err(|source| FormatError::ImageDecode {
+        path: path.to_path_buf(),
+        source,
+    })
+}
+
+/// Cell states of an image's pixels, row-major from the *bottom* row (the image's
+/// first row is the top of the map). Each pixel is reduced to a value on the
+/// 0–255 scale (gray as is, colour channels averaged, alpha ignored, 16-bit
+/// samples scaled down) and passed to `classify`.
+fn classify_pixels(
+    img: &DynamicImage,
+    path: &Path,
+    classify: impl Fn(f64) -> CellState,
+) -> Result<Vec<CellState>, FormatError> {
+    const S8: f64 = 1.0;
+    const S16: f64 = 255.0 / 65535.0;
+    let w = img.width() as usize;
+    let cells = match img {
+        DynamicImage::ImageLuma8(b) => flipped(b.as_raw(), w, 1, &classify, |p| gray(p, S8)),
+        DynamicImage::ImageLumaA8(b) => flipped(b.as_raw(), w, 2, &classify, |p| gray(p, S8)),
+        DynamicImage::ImageRgb8(b) => flipped(b.as_raw(), w, 3, &classify, |p| rgb(p, S8)),
+        DynamicImage::ImageRgba8(b) => flipped(b.as_raw(), w, 4, &classify, |p| rgb(p, S8)),
+        DynamicImage::ImageLuma16(b) => flipped(b.as_raw(), w, 1, &classify, |p| gray(p, S16)),
+        DynamicImage::ImageLumaA16(b) => flipped(b.as_raw(), w, 2, &classify, |p| gray(p, S16)),
+        DynamicImage::ImageRgb16(b) => flipped(b.as_raw(), w, 3, &classify, |p| rgb(p, S16)),
+        DynamicImage::ImageRgba16(b) => flipped(b.as_raw(), w, 4, &classify, |p| rgb(p, S16)),
+        other => {
+            return Err(FormatError::UnsupportedImage {
+                path: path.to_path_buf(),
+                message: format!("pixel type {:?}", other.color()),
+            })
+        }
+    };
+    Ok(cells)
+}
+
+/// The first channel of a pixel, scaled to 0–255.
+fn gray<T: Copy + Into<f64>>(p: &[T], scale: f64) -> f64 {
+    p[0].into() * scale
+}
+
+/// The mean of a pixel's first three channels, scaled to 0–255.
+fn rgb<T: Copy + Into<f64>>(p: &[T], scale: f64) -> f64 {
+    (p[0].into() + p[1].into() + p[2].into()) / 3.0 * scale
+}
+
+/// Classify interleaved samples (`channels` per pixel, rows of `width` pixels
+/// from the top) into cells ordered from the bottom row.
+fn flipped<T>(
+    samples: &[T],
+    width: usize,
+    channels: usize,
+    classify: impl Fn(f64) -> CellState,
+    value: impl Fn(&[T]) -> f64,
+) -> Vec<CellState> {
+    let mut cells = Vec::with_capacity(samples.len() / channels);
+    for row in samples.chunks_exact(width * channels).rev() {
+        cells.extend(row.chunks_exact(channels).map(|p| classify(value(p))));
+    }
+    cells
+}
+
+/// Load a ROS `map_server` map from its YAML file.
+pub fn load_map(yaml: &Path) -> Result<OccupancyGrid, FormatError> {
+    MapMetadata::read(yaml)?.load_grid()
+}
+
+/// Load a plain PNG/PGM image as a map without YAML: cells `resolution` m wide,
+/// origin (0, 0), yaw 0, default thresholds (0.65 / 0.196), trinary.
+pub fn load_image_map(path: &Path, resolution: f64) -> Result<OccupancyGrid, FormatError> {
+    check_resolution(resolution, path, "resolution")?;
+    MapMetadata::for_image(path, resolution).load_grid()
+}
+
+/// Load a map from a `.yaml`/`.yml` file (with [`load_map`]) or from any other
+/// file as a plain image (with [`load_image_map`] at `default_resolution`).
+pub fn load_any(path: &Path, default_resolution: f64) -> Result<OccupancyGrid, FormatError> {
+    let is_yaml = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .is_some_and(|e| e.eq_ignore_ascii_case("yaml") || e.eq_ignore_ascii_case("yml"));
+    if is_yaml {
+        load_map(path)
+    } else {
+        load_image_map(path, default_resolution)
+    }
+}
+
+/// Save a grid as a ROS `map_server` map: `<stem>.pgm` (binary P5; free 254,
+/// occupied 0, unknown 205) next to `yaml_path`, and the YAML itself (trinary,
+/// thresholds 0.65 / 0.196, `negate: 0`). Loading the result with [`load_map`]
+/// gives back an identical grid.
+///
+/// Both files are written under temporary names in the target directory and then
+/// renamed, so a failure leaves no half-written file behind.
+pub fn save_map(grid: &OccupancyGrid, yaml_path: &Path) -> Result<(), FormatError> {
+    let g = grid.geometry();
+    if g.is_empty() {
+        return Err(FormatError::bad(yaml_path, "grid", "the grid has no cells"));
+    }
+    check_resolution(g.resolution, yaml_path, "resolution")?;
+    if ![g.origin.x, g.origin.y, g.yaw]
+        .iter()
+        .all(|v| v.is_finite())
+    {
+        return Err(FormatError::bad(yaml_path, "origin", "not finite"));
+    }
+    let stem = yaml_path
+        .file_stem()
+        .and_then(|s| s.to_str())
+        .filter(|s| !s.is_empty())
+        .ok_or_else(|| {
+            FormatError::bad(yaml_path, "path", "needs a UTF-8 file name, e.g. map.yaml")
+        })?;
+    let image_name = format!("{stem}.pgm");
+    let image_path = yaml_path.with_file_name(&image_name);
+    if image_path == yaml_path {
+        return Err(FormatError::bad(
+            yaml_path,
+            "path",
+            "the YAML file must not end in .pgm (the image takes that name)",
+        ));
+    }
+
+    // The image: P5 header, then rows from the top of the map.
+    let (w, h) = (g.width, g.height);
+    let mut pgm = format!("P5\n{w} {h}\n255\n").into_bytes();
+    pgm.reserve(w * h);
+    for row in grid.cells().chunks_exact(w).rev() {
+        pgm.extend(row.iter().map(|c| match c {
+            CellState::Free => PIXEL_FREE,
+            CellState::Occupied => PIXEL_OCCUPIED,
+            CellState::Unknown => PIXEL_UNKNOWN,
+        }));
+    }
+
+    // The YAML, by hand. `{:?}` of an f64 is the shortest text that parses back to
+    // the same value, and always reads as a float.
+    let mut yaml = String::new();
+    let _ = writeln!(yaml, "image: {}", yaml_string(&image_name));
+    let _ = writeln!(yaml, "resolution: {:?}", g.resolution);
+    let _ = writeln!(
+        yaml,
+        "origin: [{:?}, {:?}, {:?}]",
+        g.origin.x, g.origin.y, g.yaw
+    );
+    let _ = writeln!(yaml, "negate: 0");
+    let _ = writeln!(yaml, "occupied_thresh: {DEFAULT_OCCUPIED_THRESH:?}");
+    let _ = writeln!(yaml, "free_thresh: {DEFAULT_FREE_THRESH:?}");
+    let _ = writeln!(yaml, "mode: trinary");
+
+    let image_tmp = write_temp(&image_path, &pgm)?;
+    let yaml_tmp = match write_temp(yaml_path, yaml.as_bytes()) {
+        Ok(t) => t,
+        Err(e) => {
+            let _ = fs::remove_file(&image_tmp);
+            return Err(e);
+        }
+    };
+    let commit = fs::rename(&image_tmp, &image_path)
+        .map_err(|e| FormatError::io(&image_path, e))
+        .and_then(|()| fs::rename(&yaml_tmp, yaml_path).map_err(|e| FormatError::io(yaml_path, e)));
+    if commit.is_err() {
+        let _ = fs::remove_file(&image_tmp);
+        let _ = fs::remove_file(&yaml_tmp);
+    }
+    commit
+}
+
+/// A file name as a YAML scalar: plain when safe, otherwise double-quoted.
+fn yaml_string(s: &str) -> String {
+    let plain = !s.is_empty()
+        && s.chars()
+            .all(|c| c.is_ascii_alphanumeric() || matches!(c, '_' | '-' | '.' | '/'))
+        && s.starts_with(|c: char| c.is_ascii_alphanumeric() || c == '_');
+    if plain {
+        return s.to_string();
+    }
+    let mut out = String::from("\"");
+    for c in s.chars() {
+        match c {
+            '"' => out.push_str("\\\""),
+            '\\' => out.push_str("\\\\"),
+            c if c.is_control() => {
+                let _ = write!(out, "\\u{:04x}", c as u32);
+            }
+            c => out.push(c),
+        }
+    }
+    out.push('"');
+    out
+}
+
+/// Write `bytes` to a fresh temporary file next to `target`; return its path.
+fn write_temp(target: &Path, bytes: &[u8]) -> Result<PathBuf, FormatError> {
+    let name = target
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let dir = target.parent().unwrap_or(Path::new(""));
+    let pid = std::process::id();
+    for attempt in 0..100u32 {
+        let tmp = dir.join(format!(".{name}.{pid}.{attempt}.tmp"));
+        let mut file = match fs::OpenOptions::new()
+            .write(true)
+            .create_new(true)
+            .open(&tmp)
+        {
+            Ok(f) => f,
+            Err(e) if e.kind() == io::ErrorKind::AlreadyExists => continue,
+            Err(e) => return Err(FormatError::io(target, e)),
+        };
+        let written = file.write_all(bytes).and_then(|()| file.sync_all());
+        drop(file);
+        return match written {
+            Ok(()) => Ok(tmp),
+            Err(e) => {
+                let _ = fs::remove_file(&tmp);
+                Err(FormatError::io(target, e))
+            }
+        };
+    }
+    Err(FormatError::io(
+        target,
+        io::Error::new(io::ErrorKind::AlreadyExists, "no free temporary file name"),
+    ))
+}

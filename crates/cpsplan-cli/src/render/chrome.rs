@@ -1,0 +1,366 @@
+//! Everything around the map: the header strip (title, summary lines, legend), the
+//! footer (scale bar, grid information), and the marks shared by the map and the
+//! legend (scan markers, trajectory arrowheads).
+
+use tiny_skia::PathBuilder;
+
+use super::canvas::{fit_text, text_height, text_width, Canvas, Rgb};
+use super::palette;
+
+/// How a legend entry is drawn.
+#[derive(Debug, Clone, Copy)]
+pub(crate) enum Swatch {
+    /// A square of a map colour.
+    Cell(Rgb),
+    /// A short stroke with an arrowhead.
+    Line(Rgb),
+    /// A scan marker.
+    Dot(Rgb),
+}
+
+/// One legend entry.
+#[derive(Debug, Clone)]
+pub(crate) struct LegendItem {
+    pub swatch: Swatch,
+    pub label: &'static str,
+}
+
+/// Sizes derived from the text scale `g` (1 for small pictures, 2 for large).
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Style {
+    /// Glyph scale of body text.
+    pub g: u32,
+}
+
+impl Style {
+    /// Picks the text scale for a map drawn `longest_px` pixels along its longer side.
+    pub fn for_map(longest_px: i64) -> Self {
+        Self {
+            g: if longest_px >= 1000 { 2 } else { 1 },
+        }
+    }
+
+    fn gi(self) -> i64 {
+        i64::from(self.g)
+    }
+
+    /// Outer margin of the picture.
+    pub fn margin(self) -> i64 {
+        8 * self.gi() + 4
+    }
+
+    /// Radius of a scan marker's coloured disc.
+    pub fn marker_radius(self) -> f32 {
+        if self.g >= 2 {
+            6.5
+        } else {
+            4.5
+        }
+    }
+
+    /// Width of the trajectory stroke.
+    pub fn line_width(self) -> f32 {
+        if self.g >= 2 {
+            2.5
+        } else {
+            1.8
+        }
+    }
+
+    fn legend_row_height(self) -> i64 {
+        10 * self.gi() + 6
+    }
+
+    fn swatch_size(self) -> i64 {
+        8 * self.gi() + 2
+    }
+
+    fn legend_item_width(self, item: &LegendItem) -> i64 {
+        let swatch = match item.swatch {
+            Swatch::Line(_) => 3 * self.swatch_size(),
+            _ => self.swatch_size(),
+        };
+        swatch + 4 * self.gi() + text_width(item.label, self.g)
+    }
+
+    fn legend_gap(self) -> i64 {
+        12 * self.gi()
+    }
+}
+
+/// The header strip: title, summary lines and legend.
+pub(crate) struct Header<'a> {
+    pub title: &'a str,
+    pub lines: Vec<String>,
+    pub legend: Vec<LegendItem>,
+}
+
+impl Header<'_> {
+    /// The legend flowed into rows that fit `avail` pixels: item indices per row.
+    fn legend_rows(&self, style: Style, avail: i64) -> Vec<Vec<usize>> {
+        let mut rows: Vec<Vec<usize>> = Vec::new();
+        let mut used = 0;
+        for (i, item) in self.legend.iter().enumerate() {
+            let w = style.legend_item_width(item);
+            match rows.last_mut() {
+                Some(row) if used + style.legend_gap() + w <= avail => {
+                    row.push(i);
+                    used += style.legend_gap() + w;
+                }
+                _ => {
+                    rows.push(vec![i]);
+                    used = w;
+                }
+            }
+        }
+        rows
+    }
+
+    /// Height of the strip on a canvas `width` pixels wide.
+    pub fn height(&self, style: Style, width: i64) -> i64 {
+        let m = style.margin();
+        let g = style.gi();
+        let mut h = m + text_height(style.g + 1);
+        h += self.lines.len() as i64 * (5 * g + text_height(style.g));
+        let rows = self.legend_rows(style, width - 2 * m).len() as i64;
+        if rows > 0 {
+            h += 4 * g + rows * style.legend_row_height();
+        }
+        h + m
+    }
+
+    /// The widest line of the strip, pixels (title excluded: it is shortened to fit).
+    pub fn min_width(&self, style: Style) -> i64 {
+        let lines = self
+            .lines
+            .iter()
+            .map(|l| text_width(l, style.g))
+            .max()
+            .unwrap_or(0);
+        let legend = self
+            .legend
+            .iter()
+            .map(|i| style.legend_item_width(i))
+            .max()
+            .unwrap_or(0);
+        lines.max(legend) + 2 * style.margin()
+    }
+
+    /// Draws the strip at the top of the canvas; returns its height.
+    pub fn draw(&self, canvas: &mut Canvas, style: Style) -> i64 {
+        let width = canvas.width();
+        let m = style.margin();
+        let g = style.gi();
+        let title = fit_text(self.title, style.g + 1, width - 2 * m);
+        let mut y = m;
+        canvas.text(m, y, &title, style.g + 1, palette::TEXT);
+        y += text_height(style.g + 1);
+        for line in &self.lines {
+            y += 5 * g;
+            let line = fit_text(line, style.g, width - 2 * m);
+            canvas.text(m, y, &line, style.g, palette::MUTED_TEXT);
+            y += text_height(style.g);
+        }
+        let rows = self.legend_rows(style, width - 2 * m);
+        if !rows.is_empty() {
+            y += 4 * g;
+        }
+        let row_h = style.legend_row_height();
+        for row in rows {
+            let mut x = m;
+            let cy = y + row_h / 2;
+            for i in row {
+                let item = &self.legend[i];
+                x += draw_swatch(canvas, style, item.swatch, x, cy);
+                x += 4 * g;
+                let ty = cy - text_height(style.g) / 2;
+                canvas.text(x, ty, item.label, style.g, palette::TEXT);
+                x += text_width(item.label, style.g) + style.legend_gap();
+            }
+            y += row_h;
+        }
+        let h = self.height(style, width);
+        canvas.fill_rect(0, h - 1, width, 1, palette::RULE);
+        h
+    }
+}
+
+/// Draws a legend swatch with its left edge at `x`, centred on row `cy`; returns its width.
+fn draw_swatch(canvas: &mut Canvas, style: Style, swatch: Swatch, x: i64, cy: i64) -> i64 {
+    let s = style.swatch_size();
+    match swatch {
+        Swatch::Cell(c) => {
+            let y = cy - s / 2;
+            canvas.fill_rect(x, y, s, s, c);
+            canvas.outline_rect(x, y, s, s, palette::SWATCH_EDGE);
+            s
+        }
+        Swatch::Line(c) => {
+            let w = 3 * s;
+            let (x0, x1, yc) = (x as f32 + 2.0, (x + w) as f32 - 2.0, cy as f32);
+            let mut pb = PathBuilder::new();
+            pb.move_to(x0, yc);
+            pb.line_to(x1, yc);
+            if let Some(path) = pb.finish() {
+                canvas.stroke_path(&path, c, 255, style.line_width());
+            }
+            draw_arrowhead(canvas, style, ((x0 + x1) / 2.0 + 4.0, yc), (1.0, 0.0), c);
+            w
+        }
+        Swatch::Dot(c) => {
+            let r = style.marker_radius();
+            draw_marker(canvas, x as f32 + s as f32 / 2.0, cy as f32, r, c);
+            s
+        }
+    }
+}
+
+/// A scan marker: a disc of colour `c` and radius `r` with a white rim and a faint
+/// dark outline, so it stands out on white, grey and black alike.
+pub(crate) fn draw_marker(canvas: &mut Canvas, cx: f32, cy: f32, r: f32, c: Rgb) {
+    canvas.fill_circle(cx, cy, r + 2.5, palette::OCCUPIED, 110);
+    canvas.fill_circle(cx, cy, r + 1.75, Rgb::hex(0xffffff), 255);
+    canvas.fill_circle(cx, cy, r, c, 255);
+}
+
+/// A filled arrowhead centred at `at`, pointing along the unit vector `dir`.
+pub(crate) fn draw_arrowhead(
+    canvas: &mut Canvas,
+    style: Style,
+    at: (f32, f32),
+    dir: (f32, f32),
+    c: Rgb,
+) {
+    let len = 3.2 * style.line_width();
+    let half = 2.0 * style.line_width();
+    let (dx, dy) = dir;
+    let (px, py) = (-dy, dx);
+    let tip = (at.0 + dx * len * 0.6, at.1 + dy * len * 0.6);
+    let back = (at.0 - dx * len * 0.4, at.1 - dy * len * 0.4);
+    let mut pb = PathBuilder::new();
+    pb.move_to(tip.0, tip.1);
+    pb.line_to(back.0 + px * half, back.1 + py * half);
+    pb.line_to(back.0 + dx * len * 0.15, back.1 + dy * len * 0.15);
+    pb.line_to(back.0 - px * half, back.1 - py * half);
+    pb.close();
+    if let Some(path) = pb.finish() {
+        canvas.stroke_path(&path, Rgb::hex(0xffffff), 200, 1.5);
+        canvas.fill_path(&path, c, 255);
+    }
+}
+
+/// The footer: a scale bar bottom left and grid information bottom right.
+pub(crate) struct Footer {
+    /// Metres per pixel of the map.
+    pub metres_per_px: f64,
+    /// Map width in pixels.
+    pub map_width_px: i64,
+    /// Right-aligned information text.
+    pub info: String,
+}
+
+impl Footer {
+    /// Height of the footer.
+    pub fn height(&self, style: Style) -> i64 {
+        let g = style.gi();
+        4 * g + text_height(style.g) + 3 * g + 4 * g + style.margin()
+    }
+
+    /// Draws the footer with its top at `y`, its left edge aligned with the map at `x0`.
+    pub fn draw(&self, canvas: &mut Canvas, style: Style, x0: i64, y: i64) {
+        let g = style.gi();
+        let width = canvas.width();
+        let m = style.margin();
+        let text_y = y + 4 * g;
+        let bar_y = text_y + text_height(style.g) + 3 * g;
+        let bar_h = 4 * g;
+        let mut bar_end = x0;
+        if let Some((metres, segments)) = scale_bar_length(self.metres_per_px, self.map_width_px) {
+            let len = (metres / self.metres_per_px).round() as i64;
+            // Alternating dark and white segments in a dark frame.
+            canvas.fill_rect(x0, bar_y, len + 1, bar_h, palette::OCCUPIED);
+            for k in 0..segments {
+                if k % 2 == 1 {
+                    let a = x0 + 1 + len * k / segments;
+                    let b = x0 + len * (k + 1) / segments;
+                    canvas.fill_rect(a, bar_y + 1, b - a, bar_h - 2, Rgb::hex(0xffffff));
+                }
+            }
+            canvas.text(x0, text_y, "0", style.g, palette::TEXT);
+            let label = format_metres(metres);
+            let lw = text_width(&label, style.g);
+            canvas.text(
+                x0 + len - lw / 2 + g,
+                text_y,
+                &label,
+                style.g,
+                palette::TEXT,
+            );
+            bar_end = x0 + len + lw / 2 + g;
+        }
+        let info_w = text_width(&self.info, style.g);
+        let right = (x0 + self.map_width_px)
+            .min(width - m)
+            .max(bar_end + 4 * g + info_w);
+        if right <= width {
+            let ty = text_y + (bar_y + bar_h - text_y - text_height(style.g)) / 2;
+            canvas.text(right - info_w, ty, &self.info, style.g, palette::MUTED_TEXT);
+        }
+    }
+}
+
+/// A round scale-bar length (1, 2 or 5 × 10^k metres) near 15 % of the map width,
+/// with its number of segments; `None` for degenerate scales.
+pub(crate) fn scale_bar_length(metres_per_px: f64, map_width_px: i64) -> Option<(f64, i64)> {
+    let target = 0.15 * metres_per_px * map_width_px as f64;
+    if !(target.is_finite() && target > 0.0) {
+        return None;
+    }
+    let decade = 10f64.powf(target.log10().floor());
+    let (metres, segments) = [(1.0, 5), (2.0, 4), (5.0, 5), (10.0, 5)]
+        .into_iter()
+        .map(|(f, s)| (f * decade, s))
+        .min_by(|a, b| {
+            let da = (a.0 / target).ln().abs();
+            let db = (b.0 / target).ln().abs();
+            da.total_cmp(&db)
+        })?;
+    (metres / metres_per_px >= 8.0).then_some((metres, segments))
+}
+
+/// "10 m", "2.5 m", "500 m", "0.5 m", "2 km".
+fn format_metres(m: f64) -> String {
+    if m >= 1000.0 {
+        format!("{} km", trim(m / 1000.0))
+    } else {
+        format!("{} m", trim(m))
+    }
+}
+
+fn trim(v: f64) -> String {
+    let s = format!("{v:.3}");
+    s.trim_end_matches('0').trim_end_matches('.').to_owned()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn scale_bar_is_round_and_near_fifteen_percent() {
+        // 80 m drawn over 1600 px.
+        let (m, _) = scale_bar_length(0.05, 1600).unwrap();
+        assert_eq!(m, 10.0);
+        let (m, _) = scale_bar_length(0.1 / 13.0, 1560).unwrap();
+        assert_eq!(m, 2.0);
+        assert!(scale_bar_length(0.0, 100).is_none());
+        assert!(scale_bar_length(f64::NAN, 100).is_none());
+    }
+
+    #[test]
+    fn metres_are_formatted_plainly() {
+        assert_eq!(format_metres(10.0), "10 m");
+        assert_eq!(format_metres(0.5), "0.5 m");
+        assert_eq!(format_metres(2000.0), "2 km");
+    }
+}

@@ -1,0 +1,252 @@
+//! Every tunable parameter in one serializable struct. Defaults are the paper's
+//! (section V: 0.1 m cells, 20 m scanner range, α = 0.01, β = 0.001) where it gives
+//! one, and documented choices (docs/DESIGN-CHOICES.md) where it is silent.
+
+use serde::{Deserialize, Serialize};
+use thiserror::Error;
+
+/// How the terms of Eq. (1) are combined.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Scoring {
+    /// Each term scaled to [0, 1] over the candidate set, weights read in units of
+    /// [`ALPHA_UNIT`] and [`BETA_UNIT`]; the paper's two regimes (α = 0: largest
+    /// new area, β = 0: shortest travel) then behave as the paper describes.
+    #[default]
+    Normalized,
+    /// `G = R·(1/P + α/L + β·S)` with clearance and `L` in metres and `S` in cells,
+    /// exactly as printed.
+    Literal,
+}
+
+/// The α of Eq. (1) that gives the travel term the weight 1 in normalized scoring.
+pub const ALPHA_UNIT: f64 = 1e-3;
+/// The β of Eq. (1) that gives the gain term the weight 1 in normalized scoring.
+pub const BETA_UNIT: f64 = 1e-5;
+
+/// The simulated scanner (section V-A).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct ScannerConfig {
+    /// Maximum range in metres (paper: 20 m).
+    pub range: f64,
+}
+
+impl Default for ScannerConfig {
+    fn default() -> Self {
+        Self { range: 20.0 }
+    }
+}
+
+/// The robots' bodies.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct RobotConfig {
+    /// Radius of the parent robot in metres: it keeps this clearance from every
+    /// known obstacle and every Unknown cell.
+    pub radius: f64,
+}
+
+impl Default for RobotConfig {
+    fn default() -> Self {
+        Self { radius: 0.25 }
+    }
+}
+
+/// The parent planner of section IV-A.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct ParentConfig {
+    /// Weight α of the travel term `1/L` (Eq. 1).
+    pub alpha: f64,
+    /// Weight β of the expected-gain term `S` (Eq. 1).
+    pub beta: f64,
+    /// How the terms are combined.
+    pub scoring: Scoring,
+    /// Width of the band along the border in which samples are scattered, metres.
+    pub band_width: f64,
+    /// Samples scattered per square metre of band.
+    pub samples_per_m2: f64,
+    /// Upper bound on the number of samples.
+    pub max_samples: usize,
+    /// Band area per k-means cluster, m²: k = ⌈band area / cluster_area⌉.
+    pub cluster_area: f64,
+    /// Upper bound on k.
+    pub max_clusters: usize,
+    /// Lloyd iterations of k-means at most.
+    pub kmeans_iterations: usize,
+    /// A candidate must expect at least this many new cells (`S`) to be chosen.
+    pub min_gain_cells: usize,
+}
+
+impl Default for ParentConfig {
+    fn default() -> Self {
+        Self {
+            alpha: 0.01,
+            beta: 0.001,
+            scoring: Scoring::Normalized,
+            band_width: 1.5,
+            samples_per_m2: 8.0,
+            max_samples: 3000,
+            cluster_area: 24.0,
+            max_clusters: 24,
+            kmeans_iterations: 30,
+            min_gain_cells: 10,
+        }
+    }
+}
+
+/// The mission loop.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct MissionConfig {
+    /// The mission stops after this many scans.
+    pub max_scans: usize,
+}
+
+impl Default for MissionConfig {
+    fn default() -> Self {
+        Self { max_scans: 400 }
+    }
+}
+
+/// All parameters of a run; printed into every run record.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct Config {
+    /// Planning grid resolution in metres (paper: 0.1 m); maps are resampled to it.
+    pub resolution: f64,
+    /// Seed of every random choice.
+    pub seed: u64,
+    /// Scanner parameters.
+    pub scanner: ScannerConfig,
+    /// Robot body parameters.
+    pub robot: RobotConfig,
+    /// Parent planner parameters.
+    pub parent: ParentConfig,
+    /// Mission loop parameters.
+    pub mission: MissionConfig,
+}
+
+impl Default for Config {
+    fn default() -> Self {
+        Self {
+            resolution: 0.1,
+            seed: 0,
+            scanner: ScannerConfig::default(),
+            robot: RobotConfig::default(),
+            parent: ParentConfig::default(),
+            mission: MissionConfig::default(),
+        }
+    }
+}
+
+/// A parameter outside its valid range.
+#[derive(Debug, Clone, PartialEq, Error)]
+#[error("invalid configuration: `{field}` {problem} (got {value})")]
+pub struct ConfigError {
+    /// The parameter's path, e.g. `scanner.range`.
+    pub field: &'static str,
+    /// What is wrong.
+    pub problem: &'static str,
+    /// The offending value.
+    pub value: String,
+}
+
+impl Config {
+    /// Checks every parameter's range.
+    pub fn validate(&self) -> Result<(), ConfigError> {
+        fn positive(field: &'static str, v: f64) -> Result<(), ConfigError> {
+            if v.is_finite() && v > 0.0 {
+                Ok(())
+            } else {
+                Err(ConfigError {
+                    field,
+                    problem: "must be a positive number",
+                    value: v.to_string(),
+                })
+            }
+        }
+        fn non_negative(field: &'static str, v: f64) -> Result<(), ConfigError> {
+            if v.is_finite() && v >= 0.0 {
+                Ok(())
+            } else {
+                Err(ConfigError {
+                    field,
+                    problem: "must be a non-negative number",
+                    value: v.to_string(),
+                })
+            }
+        }
+        fn at_least_one(field: &'static str, v: usize) -> Result<(), ConfigError> {
+            if v >= 1 {
+                Ok(())
+            } else {
+                Err(ConfigError {
+                    field,
+                    problem: "must be at least 1",
+                    value: v.to_string(),
+                })
+            }
+        }
+        positive("resolution", self.resolution)?;
+        positive("scanner.range", self.scanner.range)?;
+        non_negative("robot.radius", self.robot.radius)?;
+        non_negative("parent.alpha", self.parent.alpha)?;
+        non_negative("parent.beta", self.parent.beta)?;
+        positive("parent.band_width", self.parent.band_width)?;
+        positive("parent.samples_per_m2", self.parent.samples_per_m2)?;
+        positive("parent.cluster_area", self.parent.cluster_area)?;
+        at_least_one("parent.max_samples", self.parent.max_samples)?;
+        at_least_one("parent.max_clusters", self.parent.max_clusters)?;
+        at_least_one("parent.kmeans_iterations", self.parent.kmeans_iterations)?;
+        at_least_one("parent.min_gain_cells", self.parent.min_gain_cells)?;
+        at_least_one("mission.max_scans", self.mission.max_scans)?;
+        if self.parent.band_width <= self.robot.radius {
+            return Err(ConfigError {
+                field: "parent.band_width",
+                problem: "must be wider than robot.radius",
+                value: self.parent.band_width.to_string(),
+            });
+        }
+        Ok(())
+    }
+
+    /// Scanner range in cells of the planning grid.
+    pub fn range_cells(&self) -> f64 {
+        self.scanner.range / self.resolution
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn defaults_are_valid_and_the_papers() {
+        let c = Config::default();
+        c.validate().unwrap();
+        assert_eq!((c.parent.alpha, c.parent.beta), (0.01, 0.001));
+        assert_eq!((c.resolution, c.scanner.range), (0.1, 20.0));
+    }
+
+    #[test]
+    fn negative_range_is_rejected_by_name() {
+        let mut c = Config::default();
+        c.scanner.range = -1.0;
+        let e = c.validate().unwrap_err();
+        assert_eq!(e.field, "scanner.range");
+        assert!(e.to_string().contains("scanner.range"));
+    }
+
+    #[test]
+    fn json_round_trip() {
+        let c = Config::default();
+        let s = serde_json::to_string(&c).unwrap();
+        let back: Config = serde_json::from_str(&s).unwrap();
+        assert_eq!(c, back);
+        let partial: Config = serde_json::from_str(r#"{"parent":{"alpha":0}}"#).unwrap();
+        assert_eq!(partial.parent.alpha, 0.0);
+        assert_eq!(partial.parent.beta, 0.001);
+    }
+}

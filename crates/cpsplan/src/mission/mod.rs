@@ -1,0 +1,203 @@
+//! The mission loop (pipeline stage 8): scan, plan the parent's next position, move
+//! along a drivable path, scan again, until no reachable frontier remains or the
+//! scan limit is reached. Every step is recorded.
+//!
+//! In this version the parent moves alone; the CPS cycle with the children
+//! (paper Fig. 1) will run inside the move of each step.
+
+use rand::SeedableRng;
+use rand_chacha::ChaCha8Rng;
+use serde::{Deserialize, Serialize};
+use thiserror::Error;
+
+use crate::config::{Config, ConfigError};
+use crate::geom::{Cell, Point};
+use crate::planning::{plan_parent, Decision, ParentPlan};
+use crate::sensing::{scan, ScanOutcome};
+use crate::world::{CellState, CoverageTracker, OccupancyGrid};
+
+/// Why a mission could not start.
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum MissionError {
+    /// A parameter is out of range.
+    #[error(transparent)]
+    Config(#[from] ConfigError),
+    /// The start lies outside the map.
+    #[error("start ({x}, {y}) is outside the map (x {x0}..{x1} m, y {y0}..{y1} m)")]
+    StartOutsideMap {
+        /// Start x.
+        x: f64,
+        /// Start y.
+        y: f64,
+        /// Map bounds.
+        x0: f64,
+        /// Map bounds.
+        x1: f64,
+        /// Map bounds.
+        y0: f64,
+        /// Map bounds.
+        y1: f64,
+    },
+    /// The start is not in free space.
+    #[error("start ({x}, {y}) is inside an obstacle or unknown space, not free space")]
+    StartNotFree {
+        /// Start x.
+        x: f64,
+        /// Start y.
+        y: f64,
+    },
+}
+
+/// Why a mission ended.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum StopReason {
+    /// No border between known-Free and Unknown space is left.
+    Complete,
+    /// Border remains, but no reachable position would see anything new.
+    NoReachableFrontier,
+    /// `mission.max_scans` was reached.
+    ScanLimit,
+}
+
+/// One scan and the planning round that followed it.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Step {
+    /// Scan number, from 1.
+    pub scan: usize,
+    /// Where the parent scanned, world frame (cell centre).
+    pub position: Point,
+    /// The scan's cell.
+    pub cell: Cell,
+    /// What the scan added.
+    pub outcome: ScanOutcome,
+    /// Coverage after the scan.
+    pub coverage: f64,
+    /// Wall coverage after the scan.
+    pub wall_coverage: f64,
+    /// Parent travel so far, metres.
+    pub parent_travel_m: f64,
+    /// The planning round after the scan.
+    pub plan: ParentPlan,
+}
+
+/// Totals of an episode.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Summary {
+    /// Number of scans.
+    pub scans: usize,
+    /// Final coverage of reachable free space.
+    pub coverage: f64,
+    /// Final coverage of the walls bordering it.
+    pub wall_coverage: f64,
+    /// Total length of the parent's driven paths, metres.
+    pub parent_travel_m: f64,
+    /// Why the episode ended.
+    pub stop_reason: StopReason,
+    /// The seed of every random choice.
+    pub seed: u64,
+}
+
+/// A whole simulated episode.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Episode {
+    /// The parameters used.
+    pub config: Config,
+    /// The start, world frame (cell centre).
+    pub start: Point,
+    /// Every scan in order.
+    pub steps: Vec<Step>,
+    /// Totals.
+    pub summary: Summary,
+    /// The final knowledge map.
+    #[serde(skip)]
+    pub knowledge: Option<OccupancyGrid>,
+}
+
+/// Runs a whole episode on the ground truth `truth` (planning resolution already
+/// applied; anything not Free is solid) from `start`. `on_step` sees every step as
+/// it is recorded (for progress display).
+pub fn run_episode(
+    truth: &OccupancyGrid,
+    start: Point,
+    config: &Config,
+    mut on_step: impl FnMut(&Step),
+) -> Result<Episode, MissionError> {
+    config.validate()?;
+    let truth = truth.solidified();
+    let g = *truth.geometry();
+    let cell = g.world_to_cell(start).ok_or_else(|| {
+        let (ex, ey) = g.extent();
+        MissionError::StartOutsideMap {
+            x: start.x,
+            y: start.y,
+            x0: g.origin.x,
+            x1: g.origin.x + ex,
+            y0: g.origin.y,
+            y1: g.origin.y + ey,
+        }
+    })?;
+    if truth.get(cell) != CellState::Free {
+        return Err(MissionError::StartNotFree {
+            x: start.x,
+            y: start.y,
+        });
+    }
+    let mut knowledge = OccupancyGrid::filled(g, CellState::Unknown);
+    let mut tracker = CoverageTracker::new(&truth, cell, &knowledge);
+    let mut rng = ChaCha8Rng::seed_from_u64(config.seed);
+    let mut here = cell;
+    let mut travel = 0.0;
+    let mut steps: Vec<Step> = Vec::new();
+    let stop_reason = loop {
+        let outcome = scan(&truth, &mut knowledge, here, config.range_cells(), |i| {
+            tracker.note_seen(i)
+        });
+        let plan = plan_parent(&knowledge, here, config, &mut rng);
+        let step = Step {
+            scan: steps.len() + 1,
+            position: g.cell_center(here),
+            cell: here,
+            outcome,
+            coverage: tracker.coverage(),
+            wall_coverage: tracker.wall_coverage(),
+            parent_travel_m: travel,
+            plan,
+        };
+        on_step(&step);
+        let decision = step.plan.decision;
+        let next = step
+            .plan
+            .target()
+            .map(|t| (t.cell, step.plan.path_length_m));
+        steps.push(step);
+        match (decision, next) {
+            (Decision::Complete, _) => break StopReason::Complete,
+            (Decision::NoReachableFrontier, _) | (_, None) => {
+                break StopReason::NoReachableFrontier
+            }
+            (Decision::Target { .. }, Some((target, length))) => {
+                if steps.len() >= config.mission.max_scans {
+                    break StopReason::ScanLimit;
+                }
+                here = target;
+                travel += length;
+            }
+        }
+    };
+    let summary = Summary {
+        scans: steps.len(),
+        coverage: tracker.coverage(),
+        wall_coverage: tracker.wall_coverage(),
+        parent_travel_m: travel,
+        stop_reason,
+        seed: config.seed,
+    };
+    Ok(Episode {
+        config: *config,
+        start: g.cell_center(cell),
+        steps,
+        summary,
+        knowledge: Some(knowledge),
+    })
+}

@@ -1,0 +1,16 @@
+//! Planning: the parent planner of section IV-A and the grid machinery it stands on
+//! (distance transform, travel-distance sweep, traversability, straight legs,
+//! drivable paths).
+
+pub mod distance;
+pub mod frontier;
+pub mod kmeans;
+pub mod line;
+mod parent;
+pub mod path;
+pub mod reach;
+pub mod score;
+pub mod traversability;
+
+pub use parent::{plan_parent, Candidate, CandidateOrigin, Decision, ParentPlan};
+pub use traversability::Traversability;

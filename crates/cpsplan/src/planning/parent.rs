@@ -1,0 +1,352 @@
+//! The parent planner of section IV-A: candidates by k-means over samples scattered
+//! in the border band, each scored by Eq. (1); the best reachable one is the next
+//! scan position.
+//!
+//! Stopping must mean that no reachable frontier is left, not that this round's
+//! centroids were poor: when no candidate expects at least `min_gain_cells` new
+//! cells, the planner searches the reachable part of the band itself (one cell per
+//! square metre, nearest first) for a position that does, and only stops when there
+//! is none.
+
+use std::collections::HashMap;
+
+use rand::RngExt;
+use rand_chacha::ChaCha8Rng;
+use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
+
+use super::frontier::{band, border_cells};
+use super::kmeans::kmeans;
+use super::path::{shortcut_path, to_world};
+use super::reach::{sweep, DistanceField, UNREACHED};
+use super::score::{evaluate, Terms};
+use super::traversability::Traversability;
+use crate::config::Config;
+use crate::geom::{polyline_length, Cell, Point};
+use crate::sensing::expected_gain;
+use crate::world::{GridGeometry, OccupancyGrid};
+
+/// How a candidate was obtained.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum CandidateOrigin {
+    /// The k-means centroid itself.
+    Centroid,
+    /// The centroid was not a valid position; the cluster's nearest valid sample.
+    Snapped,
+    /// Found by the reachable-frontier search after every centroid failed.
+    Fallback,
+}
+
+/// One candidate target of the parent with the terms of Eq. (1).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Candidate {
+    /// Candidate position (cell centre), world frame.
+    pub position: Point,
+    /// Candidate cell.
+    pub cell: Cell,
+    /// The k-means centroid it came from, world frame.
+    pub centroid: Point,
+    /// How it was obtained.
+    pub origin: CandidateOrigin,
+    /// Samples in its cluster.
+    pub cluster_size: usize,
+    /// `R` of Eq. (1): 1 for a known-Free, reachable cell with the robot's clearance.
+    pub r: u8,
+    /// `P` of Eq. (1): the potential, inverse of the clearance (1/m).
+    pub p: f64,
+    /// The clearance `1/P` in metres (capped at the scanner range).
+    pub clearance_m: f64,
+    /// `L` of Eq. (1): travel distance in metres, `None` if unreachable.
+    pub l_m: Option<f64>,
+    /// `S` of Eq. (1): expected newly scanned cells (0 when `R = 0`).
+    pub s_cells: usize,
+    /// `G` of Eq. (1).
+    pub g: f64,
+    /// `R = 1` and `S ≥ min_gain_cells`: may be chosen.
+    pub eligible: bool,
+}
+
+/// What the planner decided.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case", tag = "kind")]
+pub enum Decision {
+    /// Scan next at candidate `index`.
+    Target {
+        /// Index into [`ParentPlan::candidates`].
+        index: usize,
+    },
+    /// No border is left: the map is fully known.
+    Complete,
+    /// Border remains, but no reachable position would see anything new.
+    NoReachableFrontier,
+}
+
+/// One planning round of the parent.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ParentPlan {
+    /// Border cells found (step 1).
+    pub border_cells: usize,
+    /// Band cells (step 2).
+    pub band_cells: usize,
+    /// Samples scattered in the band (step 2), world frame.
+    #[serde(skip)]
+    pub samples: Vec<Point>,
+    /// Number of samples.
+    pub sample_count: usize,
+    /// k of k-means (step 3).
+    pub clusters: usize,
+    /// Candidates with their Eq. (1) terms (step 4).
+    pub candidates: Vec<Candidate>,
+    /// The decision.
+    pub decision: Decision,
+    /// Drivable path from the parent to the target, world frame (empty if none).
+    pub path: Vec<Point>,
+    /// Length of `path` in metres.
+    pub path_length_m: f64,
+}
+
+impl ParentPlan {
+    /// The chosen candidate, if any.
+    pub fn target(&self) -> Option<&Candidate> {
+        match self.decision {
+            Decision::Target { index } => self.candidates.get(index),
+            _ => None,
+        }
+    }
+}
+
+/// Plans the parent's next scan position on `knowledge` from `parent`.
+pub fn plan_parent(
+    knowledge: &OccupancyGrid,
+    parent: Cell,
+    config: &Config,
+    rng: &mut ChaCha8Rng,
+) -> ParentPlan {
+    let g = *knowledge.geometry();
+    let pc = &config.parent;
+    let range_cells = config.range_cells();
+    let trav = Traversability::new(knowledge, config.robot.radius, parent);
+    let field = sweep(&g, &trav.passable, &[g.index(parent)], UNREACHED);
+    let border = border_cells(knowledge);
+    let mut plan = ParentPlan {
+        border_cells: border.len(),
+        band_cells: 0,
+        samples: Vec::new(),
+        sample_count: 0,
+        clusters: 0,
+        candidates: Vec::new(),
+        decision: Decision::Complete,
+        path: Vec::new(),
+        path_length_m: 0.0,
+    };
+    if border.is_empty() {
+        return plan;
+    }
+    let (band_cells, _) = band(knowledge, &border, pc.band_width);
+    plan.band_cells = band_cells.len();
+
+    // Step 2: uniformly scattered samples (cell units, continuous).
+    let cell_area = g.resolution * g.resolution;
+    let band_area = band_cells.len() as f64 * cell_area;
+    let n = ((band_area * pc.samples_per_m2).round() as usize).clamp(1, pc.max_samples);
+    let samples: Vec<[f64; 2]> = (0..n)
+        .map(|_| {
+            let c = g.cell(band_cells[rng.random_range(0..band_cells.len())]);
+            [
+                c.x as f64 + rng.random::<f64>(),
+                c.y as f64 + rng.random::<f64>(),
+            ]
+        })
+        .collect();
+    // Step 3: k adapted to the band's size.
+    let k = ((band_area / pc.cluster_area).ceil() as usize).clamp(1, pc.max_clusters);
+    let clustering = kmeans(&samples, k, pc.kmeans_iterations, rng);
+    plan.clusters = clustering.centroids.len();
+    plan.sample_count = samples.len();
+    let to_point = |p: [f64; 2]| {
+        let (s, c) = g.yaw.sin_cos();
+        let (lx, ly) = (p[0] * g.resolution, p[1] * g.resolution);
+        Point::new(g.origin.x + c * lx - s * ly, g.origin.y + s * lx + c * ly)
+    };
+    plan.samples = samples.iter().map(|&p| to_point(p)).collect();
+
+    // Step 4: centroids as candidates, snapped to a valid member sample if needed.
+    let valid = |i: usize| trav.traversable[i] && field.reached(i);
+    let cell_of = |p: [f64; 2]| Cell::new(p[0] as usize, p[1] as usize);
+    let mut members: Vec<Vec<usize>> = vec![Vec::new(); clustering.centroids.len()];
+    for (s, &a) in clustering.assignment.iter().enumerate() {
+        members[a].push(s);
+    }
+    let mut seen_cells = HashMap::new();
+    for (ci, &centroid) in clustering.centroids.iter().enumerate() {
+        let mut cell = cell_of(centroid);
+        let mut origin = CandidateOrigin::Centroid;
+        if !valid(g.index(cell)) {
+            let snapped = members[ci]
+                .iter()
+                .map(|&s| samples[s])
+                .filter(|&p| valid(g.index(cell_of(p))))
+                .min_by(|a, b| {
+                    let da = (a[0] - centroid[0]).powi(2) + (a[1] - centroid[1]).powi(2);
+                    let db = (b[0] - centroid[0]).powi(2) + (b[1] - centroid[1]).powi(2);
+                    da.total_cmp(&db)
+                });
+            if let Some(p) = snapped {
+                cell = cell_of(p);
+                origin = CandidateOrigin::Snapped;
+            }
+        }
+        if seen_cells.insert(cell, ()).is_some() {
+            continue;
+        }
+        plan.candidates.push(new_candidate(
+            cell,
+            to_point(centroid),
+            origin,
+            members[ci].len(),
+            &g,
+        ));
+    }
+    // Terms of Eq. (1), S in parallel.
+    let terms = |c: &Candidate| candidate_terms(c, &g, &trav, &field, config);
+    let gains: Vec<usize> = plan
+        .candidates
+        .par_iter()
+        .map(|c| {
+            if valid(g.index(c.cell)) {
+                expected_gain(knowledge, c.cell, range_cells, usize::MAX)
+            } else {
+                0
+            }
+        })
+        .collect();
+    for (c, s) in plan.candidates.iter_mut().zip(gains) {
+        c.s_cells = s;
+        let t = terms(c);
+        fill_terms(c, t);
+    }
+    if !plan
+        .candidates
+        .iter()
+        .any(|c| c.r == 1 && c.s_cells >= pc.min_gain_cells)
+    {
+        if let Some(cell) = search_reachable_frontier(knowledge, &band_cells, &trav, &field, config)
+        {
+            let mut c = new_candidate(cell, g.cell_center(cell), CandidateOrigin::Fallback, 0, &g);
+            c.s_cells = expected_gain(knowledge, cell, range_cells, usize::MAX);
+            let t = terms(&c);
+            fill_terms(&mut c, t);
+            plan.candidates.push(c);
+        }
+    }
+    // Eq. (1).
+    let all_terms: Vec<Terms> = plan.candidates.iter().map(|c| terms(c)).collect();
+    let scores = evaluate(&all_terms, pc.alpha, pc.beta, pc.scoring, g.resolution);
+    let mut best: Option<(usize, f64)> = None;
+    for (i, (c, gv)) in plan.candidates.iter_mut().zip(scores).enumerate() {
+        c.g = gv;
+        c.eligible = c.r == 1 && c.s_cells >= pc.min_gain_cells;
+        if c.eligible && best.is_none_or(|(_, b)| gv > b) {
+            best = Some((i, gv));
+        }
+    }
+    match best {
+        None => plan.decision = Decision::NoReachableFrontier,
+        Some((index, _)) => {
+            plan.decision = Decision::Target { index };
+            let target = plan.candidates[index].cell;
+            if let Some(cells) = shortcut_path(&g, &field, &trav.passable, target) {
+                plan.path = to_world(&g, &cells);
+                plan.path_length_m = polyline_length(&plan.path);
+            }
+        }
+    }
+    plan
+}
+
+fn new_candidate(
+    cell: Cell,
+    centroid: Point,
+    origin: CandidateOrigin,
+    cluster_size: usize,
+    g: &GridGeometry,
+) -> Candidate {
+    Candidate {
+        position: g.cell_center(cell),
+        cell,
+        centroid,
+        origin,
+        cluster_size,
+        r: 0,
+        p: 0.0,
+        clearance_m: 0.0,
+        l_m: None,
+        s_cells: 0,
+        g: 0.0,
+        eligible: false,
+    }
+}
+
+/// The raw Eq. (1) terms of a candidate whose `s_cells` is already known.
+fn candidate_terms(
+    c: &Candidate,
+    g: &GridGeometry,
+    trav: &Traversability,
+    field: &DistanceField,
+    config: &Config,
+) -> Terms {
+    let i = g.index(c.cell);
+    let reachable = trav.traversable[i] && field.reached(i);
+    Terms {
+        reachable,
+        // Guard: with no known obstacle the clearance is capped at the range.
+        clearance: (trav.clearance[i] as f64).min(config.scanner.range),
+        travel: field.metres(i).unwrap_or(f64::INFINITY),
+        gain: c.s_cells,
+    }
+}
+
+fn fill_terms(c: &mut Candidate, t: Terms) {
+    c.r = u8::from(t.reachable);
+    c.clearance_m = t.clearance;
+    c.p = if t.clearance > 0.0 {
+        1.0 / t.clearance
+    } else {
+        f64::INFINITY
+    };
+    c.l_m = t.reachable.then_some(t.travel);
+}
+
+/// The reachable-frontier search: reachable, traversable band cells, one per square
+/// metre (the nearest by travel), tried nearest first; the first that expects at
+/// least `min_gain_cells` new cells.
+fn search_reachable_frontier(
+    knowledge: &OccupancyGrid,
+    band_cells: &[usize],
+    trav: &Traversability,
+    field: &DistanceField,
+    config: &Config,
+) -> Option<Cell> {
+    let g = knowledge.geometry();
+    let block = (1.0 / g.resolution).round().max(1.0) as usize;
+    let mut best: HashMap<(usize, usize), usize> = HashMap::new();
+    for &i in band_cells {
+        if !(trav.traversable[i] && field.reached(i)) {
+            continue;
+        }
+        let c = g.cell(i);
+        let key = (c.x / block, c.y / block);
+        let e = best.entry(key).or_insert(i);
+        if (field.cost[i], i) < (field.cost[*e], *e) {
+            *e = i;
+        }
+    }
+    let mut order: Vec<usize> = best.into_values().collect();
+    order.sort_unstable_by_key(|&i| (field.cost[i], i));
+    let need = config.parent.min_gain_cells;
+    order
+        .into_iter()
+        .find(|&i| expected_gain(knowledge, g.cell(i), config.range_cells(), need) >= need)
+        .map(|i| g.cell(i))
+}
