@@ -1,4 +1,6 @@
 //! Command line, file formats, rendering and reports for cpsplan.
 
+pub mod cli;
 pub mod formats;
 pub mod render;
+pub mod report;

@@ -1,1 +1,13 @@
-fn main() {}
+//! The `cpsplan` command: see `cpsplan --help`.
+
+use std::process::ExitCode;
+
+fn main() -> ExitCode {
+    match cpsplan_cli::cli::run() {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e:#}");
+            ExitCode::from(2)
+        }
+    }
+}

@@ -19,6 +19,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     if let Some(b) = args.next() {
         config.parent.beta = b.parse()?;
     }
+    if let Ok(v) = std::env::var("MIN_FRONTIER") {
+        config.parent.min_frontier_cells = v.parse()?;
+    }
     if let Ok(v) = std::env::var("MIN_GAIN") {
         config.parent.min_gain_cells = v.parse()?;
     }

@@ -77,6 +77,8 @@ pub struct ParentConfig {
     pub kmeans_iterations: usize,
     /// A candidate must expect at least this many new cells (`S`) to be chosen.
     pub min_gain_cells: usize,
+    /// Border fragments (8-connected) smaller than this many cells are ignored.
+    pub min_frontier_cells: usize,
 }
 
 impl Default for ParentConfig {
@@ -92,6 +94,7 @@ impl Default for ParentConfig {
             max_clusters: 24,
             kmeans_iterations: 30,
             min_gain_cells: 10,
+            min_frontier_cells: 1,
         }
     }
 }
@@ -201,6 +204,7 @@ impl Config {
         at_least_one("parent.max_clusters", self.parent.max_clusters)?;
         at_least_one("parent.kmeans_iterations", self.parent.kmeans_iterations)?;
         at_least_one("parent.min_gain_cells", self.parent.min_gain_cells)?;
+        at_least_one("parent.min_frontier_cells", self.parent.min_frontier_cells)?;
         at_least_one("mission.max_scans", self.mission.max_scans)?;
         if self.parent.band_width <= self.robot.radius {
             return Err(ConfigError {

@@ -8,6 +8,20 @@
 //! - [`planning`]: the parent planner of section IV-A (border, band, k-means
 //!   candidates, Eq. 1 scores) and safe paths.
 //! - [`mission`]: the scan → plan → move loop and its records.
+//!
+//! # Example
+//!
+//! ```
+//! use cpsplan::world::builtin::BuiltinMap;
+//! use cpsplan::{run_episode, Config, StopReason};
+//!
+//! let truth = BuiltinMap::Site.generate(0);
+//! let start = BuiltinMap::Site.default_start();
+//! let episode = run_episode(&truth, start, &Config::default(), |_| {})?;
+//! assert_eq!(episode.summary.stop_reason, StopReason::Complete);
+//! assert!(episode.summary.coverage > 0.99);
+//! # Ok::<(), cpsplan::MissionError>(())
+//! ```
 
 pub mod config;
 pub mod geom;

@@ -157,8 +157,10 @@ impl Canvas {
             line_join: LineJoin::Round,
             ..Stroke::default()
         };
+        let mut paint = c.paint(alpha);
+        paint.anti_alias = alpha == 255;
         self.pixmap
-            .stroke_path(path, &c.paint(alpha), &stroke, Transform::identity(), None);
+            .stroke_path(path, &paint, &stroke, Transform::identity(), None);
     }
 
     /// Fills a circle (anti-aliased).
@@ -196,11 +198,28 @@ impl Canvas {
         }
     }
 
-    /// Encodes the canvas as PNG.
+    /// Encodes the canvas as an RGB PNG. The canvas is opaque, so its premultiplied
+    /// pixels are the plain colours. Fast deflate with adaptive filters: about ten
+    /// times faster than the default level for files about twice as large.
     pub fn encode(&self) -> Result<Vec<u8>, RenderError> {
-        self.pixmap
-            .encode_png()
-            .map_err(|e| RenderError::Encode(e.to_string()))
+        use image::codecs::png::{CompressionType, FilterType, PngEncoder};
+        use image::ImageEncoder;
+        let rgb: Vec<u8> = self
+            .pixmap
+            .data()
+            .chunks_exact(4)
+            .flat_map(|p| [p[0], p[1], p[2]])
+            .collect();
+        let mut png = Vec::with_capacity(rgb.len() / 8);
+        PngEncoder::new_with_quality(&mut png, CompressionType::Fast, FilterType::Adaptive)
+            .write_image(
+                &rgb,
+                self.pixmap.width(),
+                self.pixmap.height(),
+                image::ExtendedColorType::Rgb8,
+            )
+            .map_err(|e| RenderError::Encode(e.to_string()))?;
+        Ok(png)
     }
 }
 

@@ -107,6 +107,9 @@ pub(crate) fn draw_overlay(
     let mut label = String::new();
     for (i, &dot) in dots.iter().enumerate() {
         use std::fmt::Write as _;
+        if !(dot.0.is_finite() && dot.1.is_finite()) {
+            continue;
+        }
         label.clear();
         let _ = write!(label, "{}", i + 1);
         let w = text_width(&label, style.g) - g + 2 * pad;
@@ -182,9 +185,15 @@ fn draw_trajectory(canvas: &mut Canvas, style: Style, legs: &Legs) {
 struct Placer {
     /// Marker squares, then placed labels.
     taken: Vec<Rect>,
+    /// `taken` by the tiles each rectangle touches.
+    index: TileIndex,
+    /// Number of markers at the start of `taken`.
     markers: usize,
+    /// The map's pixel rectangle: labels should stay inside.
     map: Rect,
+    /// The canvas: labels must stay inside.
     canvas: Rect,
+    /// Where the trajectory runs.
     mask: TrajectoryMask,
 }
 
@@ -202,6 +211,10 @@ impl Placer {
             dots.iter()
                 .map(|&(x, y)| Rect::new(x - h, y - h, 2.0 * h, 2.0 * h)),
         );
+        let mut index = TileIndex::new(canvas.width(), canvas.height(), taken.len());
+        for (i, r) in taken.iter().enumerate() {
+            index.insert(i, r);
+        }
         let mut mask = TrajectoryMask::new(canvas.width(), canvas.height());
         for i in 0..legs.len() {
             for w in legs.leg(i).windows(2) {
@@ -211,6 +224,7 @@ impl Placer {
         Self {
             markers: taken.len(),
             taken,
+            index,
             map: layout.rect(),
             canvas: Rect::new(0.0, 0.0, canvas.width() as f32, canvas.height() as f32),
             mask,
@@ -264,25 +278,98 @@ impl Placer {
                 break;
             }
         }
+        self.index.insert(self.taken.len(), &best.1);
         self.taken.push(best.1);
         (best.1, best.2)
     }
 
-    fn cost(&self, index: usize, rect: &Rect) -> f32 {
+    /// How much a label at `rect` would hide: leaving the canvas or the map, covering
+    /// markers (other than its own, `index`) or earlier labels, crossing the trajectory.
+    fn cost(&mut self, index: usize, rect: &Rect) -> f32 {
         let mut cost = 0.0;
         if !self.canvas.contains(rect) {
             cost += 1e7;
         } else if !self.map.contains(rect) {
             cost += 3000.0;
         }
-        for (j, t) in self.taken.iter().enumerate() {
-            if j == index {
-                continue;
+        let (taken, markers) = (&self.taken, self.markers);
+        self.index.for_each_near(rect, |j| {
+            if j != index {
+                let weight = if j < markers { 60.0 } else { 40.0 };
+                cost += weight * rect.overlap(&taken[j]);
             }
-            let weight = if j < self.markers { 60.0 } else { 40.0 };
-            cost += weight * rect.overlap(t);
-        }
+        });
         cost + 40.0 * self.mask.covered(rect) as f32
+    }
+}
+
+/// Rectangles by the 64 × 64 pixel tiles of the canvas they touch, so that a
+/// placement looks only at its neighbours.
+struct TileIndex {
+    cols: usize,
+    rows: usize,
+    tiles: Vec<Vec<usize>>,
+    /// Per rectangle, the last query that visited it (to visit each once).
+    seen: Vec<u32>,
+    query: u32,
+}
+
+const TILE: f32 = 64.0;
+
+impl TileIndex {
+    fn new(width: i64, height: i64, capacity: usize) -> Self {
+        let cols = (width.max(1) as usize).div_ceil(TILE as usize);
+        let rows = (height.max(1) as usize).div_ceil(TILE as usize);
+        Self {
+            cols,
+            rows,
+            tiles: vec![Vec::new(); cols * rows],
+            seen: Vec::with_capacity(capacity),
+            query: 0,
+        }
+    }
+
+    /// The tile ranges `rect` touches (clamped to the canvas).
+    fn span(&self, rect: &Rect) -> (usize, usize, usize, usize) {
+        let tile = |v: f32, n: usize| ((v / TILE).max(0.0) as usize).min(n - 1);
+        (
+            tile(rect.x, self.cols),
+            tile(rect.y, self.rows),
+            tile(rect.x + rect.w, self.cols),
+            tile(rect.y + rect.h, self.rows),
+        )
+    }
+
+    fn insert(&mut self, id: usize, rect: &Rect) {
+        let (c0, r0, c1, r1) = self.span(rect);
+        for r in r0..=r1 {
+            for c in c0..=c1 {
+                self.tiles[r * self.cols + c].push(id);
+            }
+        }
+        if self.seen.len() <= id {
+            self.seen.resize(id + 1, 0);
+        }
+    }
+
+    /// Calls `f` once for every rectangle sharing a tile with `rect`.
+    fn for_each_near(&mut self, rect: &Rect, mut f: impl FnMut(usize)) {
+        self.query = self.query.wrapping_add(1);
+        if self.query == 0 {
+            self.seen.fill(0);
+            self.query = 1;
+        }
+        let (c0, r0, c1, r1) = self.span(rect);
+        for r in r0..=r1 {
+            for c in c0..=c1 {
+                for &id in &self.tiles[r * self.cols + c] {
+                    if self.seen[id] != self.query {
+                        self.seen[id] = self.query;
+                        f(id);
+                    }
+                }
+            }
+        }
     }
 }
 

@@ -7,7 +7,8 @@
 //!
 //! Pictures are drawn in the grid frame (row 0 at the bottom, so north is up for an
 //! unrotated map) at an integer number of pixels per cell chosen so that the longer
-//! side of the map is about 1600 pixels; grids longer than 2400 cells are reduced
+//! side of the map is about 1600 pixels (at most 2000, and at least one pixel per
+//! cell up to 2400 cells); grids longer than 2400 cells are reduced
 //! instead, one pixel showing the most salient state of a block of cells (occupied
 //! over missed over free over unknown), so thin walls never vanish.
 
@@ -78,6 +79,9 @@ pub(crate) mod palette {
     pub const MISSED: Rgb = Rgb::hex(0xf6c9a0);
     /// Walls bordering the reachable space that were never observed.
     pub const MISSED_WALL: Rgb = Rgb::hex(0xd08a4e);
+    /// Free space connected to the start but out of the robot's reach (behind
+    /// gaps narrower than the robot), never observed.
+    pub const OUT_OF_REACH: Rgb = Rgb::hex(0xd8c6ea);
     /// The parent's path.
     pub const TRAJECTORY: Rgb = Rgb::hex(0x1f77b4);
     /// Scan positions.
@@ -101,6 +105,7 @@ pub(crate) mod palette {
 enum Class {
     Unknown,
     Free,
+    OutOfReach,
     Missed,
     MissedWall,
     Occupied,
@@ -111,6 +116,7 @@ impl Class {
         match self {
             Class::Unknown => palette::UNKNOWN,
             Class::Free => palette::FREE,
+            Class::OutOfReach => palette::OUT_OF_REACH,
             Class::Missed => palette::MISSED,
             Class::MissedWall => palette::MISSED_WALL,
             Class::Occupied => palette::OCCUPIED,
@@ -160,7 +166,8 @@ impl MapLayout {
     fn new(geometry: &GridGeometry) -> Self {
         let longest = geometry.width.max(geometry.height).max(1);
         let (cells_per_px, px_per_cell) = if longest <= 2400 {
-            (1, ((1600.0 / longest as f64).round() as usize).max(1))
+            let near = (1600.0 / longest as f64).round() as usize;
+            (1, near.min(2000 / longest).max(1))
         } else {
             (longest.div_ceil(1800), 1)
         };
@@ -411,7 +418,7 @@ fn draw_episode(
     }
     let tracker = knowledge.and_then(|k| {
         g.world_to_cell(episode.start)
-            .map(|start| CoverageTracker::new(truth, start, k))
+            .map(|start| CoverageTracker::new(truth, start, episode.config.robot.radius, k))
     });
 
     let mut legend = vec![
@@ -436,6 +443,10 @@ fn draw_episode(
         legend.push(LegendItem {
             swatch: Swatch::Cell(palette::MISSED_WALL),
             label: "missed wall",
+        });
+        legend.push(LegendItem {
+            swatch: Swatch::Cell(palette::OUT_OF_REACH),
+            label: "out of reach",
         });
     }
     legend.extend([
@@ -469,6 +480,7 @@ fn draw_episode(
             frame.layout.paint(&mut frame.canvas, |i| match known[i] {
                 CellState::Unknown if t.is_reachable_free(i) => Class::Missed,
                 CellState::Unknown if t.is_bordering_wall(i) => Class::MissedWall,
+                CellState::Unknown if t.is_connected_free(i) => Class::OutOfReach,
                 s => Class::of(s),
             });
         }
@@ -486,7 +498,8 @@ fn draw_episode(
     Ok(frame)
 }
 
-/// "31 scans · coverage 99.6 % · walls 98.1 % · parent travel 512.3 m · stop: complete · seed 0".
+/// "31 scans · coverage 99.6 % · walls 98.1 % · parent travel 512.3 m · stop: complete ·
+/// planner seed 0".
 fn summary_line(episode: &Episode) -> String {
     let s = &episode.summary;
     let stop = match s.stop_reason {
@@ -496,7 +509,7 @@ fn summary_line(episode: &Episode) -> String {
     };
     format!(
         "{} scan{} \u{b7} coverage {:.1} % \u{b7} walls {:.1} % \u{b7} parent travel {:.1} m \
-         \u{b7} stop: {} \u{b7} seed {}",
+         \u{b7} stop: {} \u{b7} planner seed {}",
         s.scans,
         if s.scans == 1 { "" } else { "s" },
         100.0 * s.coverage,

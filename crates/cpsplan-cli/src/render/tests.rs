@@ -225,68 +225,18 @@ fn odd_titles_and_long_titles_render() {
 }
 
 #[test]
-#[ignore]
-fn zz_look() {
-    use cpsplan::world::builtin::BuiltinMap;
-    let truth = two_rooms();
-    let ep = episode(&truth);
-    std::fs::write(
-        "/tmp/render_small.png",
-        render_episode(&truth, &ep, "two rooms, range 3 m").unwrap(),
-    )
-    .unwrap();
-    let map = BuiltinMap::Office;
-    let truth = map.generate(0);
-    std::fs::write(
-        "/tmp/render_map.png",
-        render_map(&truth, "office seed 0 (ground truth)").unwrap(),
-    )
-    .unwrap();
-    let t0 = std::time::Instant::now();
-    let ep = run_episode(&truth, map.default_start(), &Config::default(), |_| {}).unwrap();
-    eprintln!("episode {:?}", t0.elapsed());
-    let t0 = std::time::Instant::now();
-    let png = render_episode(&truth, &ep, "office, seed 0, default config").unwrap();
-    eprintln!("render {:?} {} bytes", t0.elapsed(), png.len());
-    let t0 = std::time::Instant::now();
-    let f = draw_episode(&truth, &ep, "office, seed 0, default config").unwrap();
-    eprintln!("draw only {:?}", t0.elapsed());
-    drop(f);
-    std::fs::write("/tmp/render_check.png", png).unwrap();
-}
-
-#[test]
-#[ignore]
-fn zz_time() {
-    use cpsplan::world::builtin::BuiltinMap;
-    use image::ImageEncoder;
-    let map = BuiltinMap::Office;
-    let truth = map.generate(0);
-    let mut cfg = Config::default();
-    cfg.mission.max_scans = 60;
-    let ep = run_episode(&truth, map.default_start(), &cfg, |_| {}).unwrap();
-    for _ in 0..3 {
-        let t0 = std::time::Instant::now();
-        let f = draw_episode(&truth, &ep, "office").unwrap();
-        let t1 = t0.elapsed();
-        let png = f.canvas.encode().unwrap();
-        let t2 = t0.elapsed();
-        let data = f.canvas.pixmap.data();
-        let rgb: Vec<u8> = data.chunks_exact(4).flat_map(|p| [p[0], p[1], p[2]]).collect();
-        let mut out = Vec::new();
-        for (name, c, fl) in [
-            ("fast adaptive", image::codecs::png::CompressionType::Fast, image::codecs::png::FilterType::Adaptive),
-            ("default adaptive", image::codecs::png::CompressionType::Default, image::codecs::png::FilterType::Adaptive),
-            ("fast sub", image::codecs::png::CompressionType::Fast, image::codecs::png::FilterType::Sub),
-            ("fast up", image::codecs::png::CompressionType::Fast, image::codecs::png::FilterType::Up),
-        ] {
-            out.clear();
-            let t3 = std::time::Instant::now();
-            image::codecs::png::PngEncoder::new_with_quality(&mut out, c, fl)
-                .write_image(&rgb, f.canvas.pixmap.width(), f.canvas.pixmap.height(), image::ExtendedColorType::Rgb8)
-                .unwrap();
-            eprintln!("{name}: {:?} {} bytes", t3.elapsed(), out.len());
-        }
-        eprintln!("draw {:?} skia-encode {:?} {} bytes", t1, t2 - t1, png.len());
+fn scale_keeps_the_longer_side_near_1600_px() {
+    for (cells, px) in [
+        (120, 1560),
+        (800, 1600),
+        (601, 1803),
+        (1066, 1066),
+        (1500, 1500),
+        (2400, 2400),
+        (4000, 1334),
+        (10, 1600),
+    ] {
+        let l = MapLayout::new(&GridGeometry::new(cells, 7, 0.1, Point::default()));
+        assert_eq!(l.width_px, px, "{cells} cells");
     }
 }

@@ -90,6 +90,8 @@ pub struct Summary {
     pub coverage: f64,
     /// Final coverage of the walls bordering it.
     pub wall_coverage: f64,
+    /// Final coverage of all free space 4-connected to the start, reachable or not.
+    pub connected_coverage: f64,
     /// Total length of the parent's driven paths, metres.
     pub parent_travel_m: f64,
     /// Why the episode ended.
@@ -144,7 +146,7 @@ pub fn run_episode(
         });
     }
     let mut knowledge = OccupancyGrid::filled(g, CellState::Unknown);
-    let mut tracker = CoverageTracker::new(&truth, cell, &knowledge);
+    let mut tracker = CoverageTracker::new(&truth, cell, config.robot.radius, &knowledge);
     let mut rng = ChaCha8Rng::seed_from_u64(config.seed);
     let mut here = cell;
     let mut travel = 0.0;
@@ -189,6 +191,7 @@ pub fn run_episode(
         scans: steps.len(),
         coverage: tracker.coverage(),
         wall_coverage: tracker.wall_coverage(),
+        connected_coverage: tracker.connected_coverage(),
         parent_travel_m: travel,
         stop_reason,
         seed: config.seed,

@@ -2,7 +2,9 @@
 //! its centre to the centre of the nearest obstacle cell. The column pass is two
 //! linear sweeps (Meijster et al. 2000), the row pass the lower envelope of
 //! parabolas (Felzenszwalb & Huttenlocher 2012), rows in parallel. O(cells), no
-//! saturation.
+//! saturation. The envelope's breakpoints are kept as exact fractions and
+//! compared by cross-multiplication in integers, so every distance is the square
+//! root of the exact minimum squared distance.
 
 use rayon::prelude::*;
 
@@ -61,39 +63,75 @@ pub fn transform(
     // Row pass.
     let mut out = vec![NO_OBSTACLE; w * h];
     out.par_chunks_mut(w).zip(g.par_chunks(w)).for_each_init(
-        || (vec![0usize; w], vec![0.0f64; w + 1]),
+        || (vec![0usize; w], vec![Breakpoint::MIN; w + 1]),
         |(v, z), (out_row, g_row)| envelope(g_row, out_row, v, z),
     );
     out
 }
 
+/// Where two parabolas of the envelope cross: the abscissa `num / den` (`den > 0`),
+/// or ±∞.
+#[derive(Debug, Clone, Copy)]
+struct Breakpoint {
+    num: i64,
+    den: i64,
+}
+
+impl Breakpoint {
+    const MIN: Self = Self { num: -1, den: 0 };
+    const MAX: Self = Self { num: 1, den: 0 };
+
+    /// `self ≤ other`, exactly. With `|num| < (w² + h²)` and `den ≤ 2w` the products
+    /// stay far inside `i64` for any grid that fits in memory.
+    fn le(self, other: Self) -> bool {
+        match (self.den, other.den) {
+            (0, 0) => self.num <= other.num,
+            (0, _) => self.num < 0,
+            (_, 0) => other.num > 0,
+            _ => self.num * other.den <= other.num * self.den,
+        }
+    }
+
+    /// `self < q` for a column `q`, exactly.
+    fn lt_column(self, q: usize) -> bool {
+        if self.den == 0 {
+            self.num < 0
+        } else {
+            self.num < q as i64 * self.den
+        }
+    }
+}
+
 /// Lower envelope of the parabolas `(x − u)² + g[u]²` over the columns `u` with a
 /// finite `g[u]`, sampled at every column.
-fn envelope(g: &[u32], out: &mut [f32], v: &mut [usize], z: &mut [f64]) {
+fn envelope(g: &[u32], out: &mut [f32], v: &mut [usize], z: &mut [Breakpoint]) {
     let f = |u: usize| {
-        let gu = g[u] as f64;
-        gu * gu + (u * u) as f64
+        let gu = g[u] as i64;
+        gu * gu + (u * u) as i64
     };
     let mut k: usize = 0;
     let mut any = false;
-    for q in 0..g.len() {
-        if g[q] == NONE {
+    for (q, &gq) in g.iter().enumerate() {
+        if gq == NONE {
             continue;
         }
         if !any {
             any = true;
             v[0] = q;
-            z[0] = f64::NEG_INFINITY;
-            z[1] = f64::INFINITY;
+            z[0] = Breakpoint::MIN;
+            z[1] = Breakpoint::MAX;
             continue;
         }
         let fq = f(q);
         let mut s;
         loop {
             let p = v[k];
-            s = (fq - f(p)) / (2.0 * (q as f64 - p as f64));
+            s = Breakpoint {
+                num: fq - f(p),
+                den: 2 * (q as i64 - p as i64),
+            };
             // z[0] is −∞, so this never steps below the first parabola.
-            if s <= z[k] {
+            if s.le(z[k]) {
                 k -= 1;
             } else {
                 break;
@@ -102,20 +140,20 @@ fn envelope(g: &[u32], out: &mut [f32], v: &mut [usize], z: &mut [f64]) {
         k += 1;
         v[k] = q;
         z[k] = s;
-        z[k + 1] = f64::INFINITY;
+        z[k + 1] = Breakpoint::MAX;
     }
     if !any {
         return;
     }
     k = 0;
     for (q, o) in out.iter_mut().enumerate() {
-        while z[k + 1] < q as f64 {
+        while z[k + 1].lt_column(q) {
             k += 1;
         }
         let p = v[k];
-        let dx = q as f64 - p as f64;
-        let gp = g[p] as f64;
-        *o = (dx * dx + gp * gp).sqrt() as f32;
+        let dx = q.abs_diff(p) as u64;
+        let gp = g[p] as u64;
+        *o = ((dx * dx + gp * gp) as f64).sqrt() as f32;
     }
 }
 
@@ -131,7 +169,7 @@ mod tests {
             let g = GridGeometry::new(w, h, 1.0, Point::default());
             let obstacle = |i: usize| bits[i] == 0;
             let got = distance_transform(&g, obstacle);
-            for i in 0..w * h {
+            for (i, &got_i) in got.iter().enumerate() {
                 let c = g.cell(i);
                 let mut best = f64::INFINITY;
                 for j in 0..w * h {
@@ -143,9 +181,11 @@ mod tests {
                     }
                 }
                 if best.is_infinite() {
-                    prop_assert_eq!(got[i], NO_OBSTACLE);
+                    prop_assert_eq!(got_i, NO_OBSTACLE);
                 } else {
-                    prop_assert!((got[i] as f64 - best).abs() < 1e-4, "cell {:?}: {} vs {}", c, got[i], best);
+                    prop_assert!((got_i as f64 - best).abs() < 1e-4, "cell {:?}: {} vs {}", c, got_i, best);
+                    // Exactly the square root of the least squared distance.
+                    prop_assert_eq!(got_i.to_bits(), (best as f32).to_bits());
                 }
             }
         }

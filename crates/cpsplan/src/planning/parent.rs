@@ -15,7 +15,7 @@ use rand_chacha::ChaCha8Rng;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
-use super::frontier::{band, border_cells};
+use super::frontier::{band, border_cells, significant_border};
 use super::kmeans::kmeans;
 use super::path::{shortcut_path, to_world};
 use super::reach::{sweep, DistanceField, UNREACHED};
@@ -126,9 +126,41 @@ pub fn plan_parent(
     let g = *knowledge.geometry();
     let pc = &config.parent;
     let range_cells = config.range_cells();
-    let trav = Traversability::new(knowledge, config.robot.radius, parent);
-    let field = sweep(&g, &trav.passable, &[g.index(parent)], UNREACHED);
-    let border = border_cells(knowledge);
+    // Steps 1–3 (border, band, samples, k-means: the only users of `rng`) do not
+    // depend on the drivable cells and travel distances from the parent: both run
+    // at once.
+    let ((trav, field), (border, stages)) = rayon::join(
+        || {
+            let trav = Traversability::new(knowledge, config.robot.radius, parent);
+            let field = sweep(&g, &trav.passable, &[g.index(parent)], UNREACHED);
+            (trav, field)
+        },
+        || {
+            let border = significant_border(&g, &border_cells(knowledge), pc.min_frontier_cells);
+            if border.is_empty() {
+                return (border, None);
+            }
+            let (band_cells, _) = band(knowledge, &border, pc.band_width);
+
+            // Step 2: uniformly scattered samples (cell units, continuous).
+            let cell_area = g.resolution * g.resolution;
+            let band_area = band_cells.len() as f64 * cell_area;
+            let n = ((band_area * pc.samples_per_m2).round() as usize).clamp(1, pc.max_samples);
+            let samples: Vec<[f64; 2]> = (0..n)
+                .map(|_| {
+                    let c = g.cell(band_cells[rng.random_range(0..band_cells.len())]);
+                    [
+                        c.x as f64 + rng.random::<f64>(),
+                        c.y as f64 + rng.random::<f64>(),
+                    ]
+                })
+                .collect();
+            // Step 3: k adapted to the band's size.
+            let k = ((band_area / pc.cluster_area).ceil() as usize).clamp(1, pc.max_clusters);
+            let clustering = kmeans(&samples, k, pc.kmeans_iterations, rng);
+            (border, Some((band_cells, samples, clustering)))
+        },
+    );
     let mut plan = ParentPlan {
         border_cells: border.len(),
         band_cells: 0,
@@ -140,28 +172,10 @@ pub fn plan_parent(
         path: Vec::new(),
         path_length_m: 0.0,
     };
-    if border.is_empty() {
+    let Some((band_cells, samples, clustering)) = stages else {
         return plan;
-    }
-    let (band_cells, _) = band(knowledge, &border, pc.band_width);
+    };
     plan.band_cells = band_cells.len();
-
-    // Step 2: uniformly scattered samples (cell units, continuous).
-    let cell_area = g.resolution * g.resolution;
-    let band_area = band_cells.len() as f64 * cell_area;
-    let n = ((band_area * pc.samples_per_m2).round() as usize).clamp(1, pc.max_samples);
-    let samples: Vec<[f64; 2]> = (0..n)
-        .map(|_| {
-            let c = g.cell(band_cells[rng.random_range(0..band_cells.len())]);
-            [
-                c.x as f64 + rng.random::<f64>(),
-                c.y as f64 + rng.random::<f64>(),
-            ]
-        })
-        .collect();
-    // Step 3: k adapted to the band's size.
-    let k = ((band_area / pc.cluster_area).ceil() as usize).clamp(1, pc.max_clusters);
-    let clustering = kmeans(&samples, k, pc.kmeans_iterations, rng);
     plan.clusters = clustering.centroids.len();
     plan.sample_count = samples.len();
     let to_point = |p: [f64; 2]| {
@@ -241,7 +255,7 @@ pub fn plan_parent(
         }
     }
     // Eq. (1).
-    let all_terms: Vec<Terms> = plan.candidates.iter().map(|c| terms(c)).collect();
+    let all_terms: Vec<Terms> = plan.candidates.iter().map(terms).collect();
     let scores = evaluate(&all_terms, pc.alpha, pc.beta, pc.scoring, g.resolution);
     let mut best: Option<(usize, f64)> = None;
     for (i, (c, gv)) in plan.candidates.iter_mut().zip(scores).enumerate() {
@@ -301,7 +315,7 @@ fn candidate_terms(
     Terms {
         reachable,
         // Guard: with no known obstacle the clearance is capped at the range.
-        clearance: (trav.clearance[i] as f64).min(config.scanner.range),
+        clearance: (trav.clearance_at(i) as f64).min(config.scanner.range),
         travel: field.metres(i).unwrap_or(f64::INFINITY),
         gain: c.s_cells,
     }

@@ -2,6 +2,13 @@
 //! integer 8-connected step costs (straight 29, diagonal 41; 41/29 ≈ √2 to 0.03 %).
 //! Diagonal steps never cut a blocked corner. One sweep gives the travel distance
 //! `L` of Eq. (1) to every candidate and the set of reachable cells.
+//!
+//! The sweep is the dearest step of a planning round (it covers every drivable
+//! cell), so it is written for speed: impassable cells carry the cost 0 while it
+//! runs (no step improves on them, so entering a cell needs no passability test),
+//! each cell's flags say whether all eight neighbours exist (no bounds checks off
+//! the grid's border), and the working buffers are kept per thread between sweeps.
+//! The costs are exact shortest-path costs, so none of this changes the field.
 
 use crate::geom::Cell;
 use crate::world::GridGeometry;
@@ -54,95 +61,231 @@ const STEPS: [(i64, i64, u32); 8] = [
     (-1, -1, DIAGONAL),
 ];
 
+/// Buckets of Dial's queue: one more than the largest step, so that every pending
+/// cost lies within one turn of the ring.
+const RING: usize = DIAGONAL as usize + 1;
+
+/// The cost impassable cells hold while a sweep runs: no step improves on it, so
+/// entering a cell needs no separate passability test.
+const BLOCKED: u32 = 0;
+
+/// Cell flag: the cell may be entered.
+const OPEN: u8 = 1;
+/// Cell flag: the cell is not on the grid's border, so all eight neighbours exist.
+const INTERIOR: u8 = 2;
+
+/// Working buffers of a sweep, kept per thread so that repeated sweeps reuse their
+/// memory instead of faulting in fresh pages (up to [`KEEP_CELLS`] cells).
+#[derive(Default)]
+struct Scratch {
+    flags: Vec<u8>,
+    buckets: Vec<Vec<u32>>,
+}
+
+/// The largest grid (cells) whose sweep buffers a thread keeps for the next sweep.
+const KEEP_CELLS: usize = 1 << 24;
+
+thread_local! {
+    static SCRATCH: std::cell::RefCell<Scratch> = std::cell::RefCell::default();
+}
+
 /// Dijkstra from `sources` over cells with `passable[i]`, expanding no cell whose
 /// cost exceeds `max_cost`. Sources need not be passable themselves.
+///
+/// Dial's bucket queue. Costs are exact shortest-path costs, so the field does not
+/// depend on the order in which equal costs are settled.
 pub fn sweep(
     geometry: &GridGeometry,
     passable: &[bool],
     sources: &[usize],
     max_cost: u32,
 ) -> DistanceField {
-    let (w, h) = (geometry.width as i64, geometry.height as i64);
-    let mut cost = vec![UNREACHED; geometry.len()];
-    let ring = DIAGONAL as usize + 1;
-    let mut buckets: Vec<Vec<usize>> = vec![Vec::new(); ring];
-    let mut pending = 0usize;
-    for &s in sources {
-        if cost[s] != 0 {
-            cost[s] = 0;
-            buckets[0].push(s);
-            pending += 1;
-        }
-    }
-    let wu = geometry.width;
-    // Index offsets of the straight and diagonal steps, with the two straight cells
-    // a diagonal step passes between.
-    let wi = wu as isize;
-    let straight = [1isize, -1, wi, -wi];
-    let diagonal = [
-        (wi + 1, 1, wi),
-        (wi - 1, -1, wi),
-        (-wi + 1, 1, -wi),
-        (-wi - 1, -1, -wi),
-    ];
-    let mut current: u32 = 0;
-    while pending > 0 {
-        let slot = current as usize % ring;
-        while let Some(i) = buckets[slot].pop() {
-            pending -= 1;
-            if cost[i] != current {
-                continue; // stale entry
-            }
-            let (x, y) = ((i % wu) as i64, (i / wu) as i64);
-            let mut relax = |j: usize, step: u32, buckets: &mut [Vec<usize>]| {
-                let c = current + step;
-                if c < cost[j] && c <= max_cost {
-                    cost[j] = c;
-                    buckets[c as usize % ring].push(j);
-                    pending += 1;
-                }
-            };
-            if x > 0 && y > 0 && x + 1 < w && y + 1 < h {
-                // Interior cell: every neighbour exists.
-                let ii = i as isize;
-                for d in straight {
-                    let j = (ii + d) as usize;
-                    if passable[j] {
-                        relax(j, STRAIGHT, &mut buckets);
-                    }
-                }
-                for (d, a, b) in diagonal {
-                    let j = (ii + d) as usize;
-                    if passable[j] && passable[(ii + a) as usize] && passable[(ii + b) as usize] {
-                        relax(j, DIAGONAL, &mut buckets);
-                    }
-                }
-                continue;
-            }
-            for (k, &(dx, dy, step)) in STEPS.iter().enumerate() {
-                let (nx, ny) = (x + dx, y + dy);
-                if nx < 0 || ny < 0 || nx >= w || ny >= h {
-                    continue;
-                }
-                let j = (ny * w + nx) as usize;
-                if !passable[j] {
-                    continue;
-                }
-                if k >= 4 {
-                    let a = (y * w + nx) as usize;
-                    let b = (ny * w + x) as usize;
-                    if !passable[a] || !passable[b] {
-                        continue;
-                    }
-                }
-                relax(j, step, &mut buckets);
-            }
-        }
-        current += 1;
+    sweep_cells(geometry, passable, |p| p, sources, max_cost)
+}
+
+/// [`sweep`] over the cells `i` with `passable(cells[i])`.
+pub(crate) fn sweep_cells<T: Copy>(
+    geometry: &GridGeometry,
+    cells: &[T],
+    passable: impl Fn(T) -> bool,
+    sources: &[usize],
+    max_cost: u32,
+) -> DistanceField {
+    let mut scratch = SCRATCH.with(|s| std::mem::take(&mut *s.borrow_mut()));
+    let cost = dial(geometry, cells, passable, sources, max_cost, &mut scratch);
+    if scratch.flags.capacity() <= KEEP_CELLS {
+        SCRATCH.with(|s| *s.borrow_mut() = scratch);
     }
     DistanceField {
         cost,
         resolution: geometry.resolution,
+    }
+}
+
+/// The costs of [`sweep_cells`].
+fn dial<T: Copy>(
+    geometry: &GridGeometry,
+    cells: &[T],
+    passable: impl Fn(T) -> bool,
+    sources: &[usize],
+    max_cost: u32,
+    scratch: &mut Scratch,
+) -> Vec<u32> {
+    let (w, h) = (geometry.width, geometry.height);
+    let n = w * h;
+    let cells = &cells[..n];
+    if n == 0 {
+        return Vec::new();
+    }
+    // Flags, and costs with impassable cells at BLOCKED.
+    let flags = &mut scratch.flags;
+    flags.clear();
+    flags.extend(cells.iter().map(|&c| {
+        if passable(c) {
+            OPEN | INTERIOR
+        } else {
+            INTERIOR
+        }
+    }));
+    let mut cost: Vec<u32> = flags
+        .iter()
+        .map(|&f| if f & OPEN != 0 { UNREACHED } else { BLOCKED })
+        .collect();
+    let last = n - w;
+    for f in flags[..w].iter_mut() {
+        *f &= !INTERIOR;
+    }
+    for f in flags[last..].iter_mut() {
+        *f &= !INTERIOR;
+    }
+    for row in flags.chunks_exact_mut(w) {
+        row[0] &= !INTERIOR;
+        row[w - 1] &= !INTERIOR;
+    }
+    let flags = &scratch.flags;
+    let buckets = &mut scratch.buckets;
+    buckets.resize_with(RING, Vec::new);
+    for b in buckets.iter_mut() {
+        b.clear();
+    }
+    // Sources, each once.
+    buckets[0].extend(sources.iter().map(|&i| i as u32));
+    buckets[0].sort_unstable();
+    buckets[0].dedup();
+    for &i in &buckets[0] {
+        cost[i as usize] = 0;
+    }
+    let mut pending = buckets[0].len();
+    let mut current: u32 = 0;
+    let mut slot = 0usize;
+    let wrap = |s: usize| if s >= RING { s - RING } else { s };
+    while pending > 0 {
+        // Steps cost at least STRAIGHT > 0, so the bucket being drained and the two
+        // it feeds are distinct.
+        let straight_slot = wrap(slot + STRAIGHT as usize);
+        let diagonal_slot = wrap(slot + DIAGONAL as usize);
+        let mut bucket = std::mem::take(&mut buckets[slot]);
+        let mut to_straight = std::mem::take(&mut buckets[straight_slot]);
+        let mut to_diagonal = std::mem::take(&mut buckets[diagonal_slot]);
+        pending -= bucket.len();
+        let before = to_straight.len() + to_diagonal.len();
+        let straight_cost = current.saturating_add(STRAIGHT);
+        let diagonal_cost = current.saturating_add(DIAGONAL);
+        let straight_ok = straight_cost <= max_cost && straight_cost != UNREACHED;
+        let diagonal_ok = diagonal_cost <= max_cost && diagonal_cost != UNREACHED;
+        for &p in &bucket {
+            let i = p as usize;
+            if cost[i] != current || !straight_ok {
+                continue; // stale entry, or nothing within max_cost
+            }
+            if flags[i] & INTERIOR == 0 {
+                relax_border(
+                    geometry,
+                    flags,
+                    &mut cost,
+                    i,
+                    (straight_cost, &mut to_straight),
+                    (diagonal_cost, diagonal_ok, &mut to_diagonal),
+                );
+                continue;
+            }
+            let mut relax = |j: usize, c: u32, queue: &mut Vec<u32>| {
+                if c < cost[j] {
+                    cost[j] = c;
+                    queue.push(j as u32);
+                }
+            };
+            relax(i + 1, straight_cost, &mut to_straight);
+            relax(i - 1, straight_cost, &mut to_straight);
+            relax(i + w, straight_cost, &mut to_straight);
+            relax(i - w, straight_cost, &mut to_straight);
+            if diagonal_ok {
+                // A diagonal step never cuts a blocked corner.
+                let open = |j: usize| flags[j] & OPEN != 0;
+                let (east, west) = (open(i + 1), open(i - 1));
+                let (north, south) = (open(i + w), open(i - w));
+                if east & north {
+                    relax(i + w + 1, diagonal_cost, &mut to_diagonal);
+                }
+                if west & north {
+                    relax(i + w - 1, diagonal_cost, &mut to_diagonal);
+                }
+                if east & south {
+                    relax(i - w + 1, diagonal_cost, &mut to_diagonal);
+                }
+                if west & south {
+                    relax(i - w - 1, diagonal_cost, &mut to_diagonal);
+                }
+            }
+        }
+        pending += to_straight.len() + to_diagonal.len() - before;
+        bucket.clear();
+        buckets[slot] = bucket;
+        buckets[straight_slot] = to_straight;
+        buckets[diagonal_slot] = to_diagonal;
+        slot = wrap(slot + 1);
+        current += 1;
+    }
+    // Impassable cells back to UNREACHED, sources to 0.
+    for (c, &f) in cost.iter_mut().zip(flags) {
+        *c = if f & OPEN != 0 { *c } else { UNREACHED };
+    }
+    for &s in sources {
+        cost[s] = 0;
+    }
+    cost
+}
+
+/// Relaxes the neighbours of a cell on the grid's border, with bounds checks.
+fn relax_border(
+    geometry: &GridGeometry,
+    flags: &[u8],
+    cost: &mut [u32],
+    i: usize,
+    (straight_cost, to_straight): (u32, &mut Vec<u32>),
+    (diagonal_cost, diagonal_ok, to_diagonal): (u32, bool, &mut Vec<u32>),
+) {
+    let (w, h) = (geometry.width as i64, geometry.height as i64);
+    let (x, y) = ((i as i64) % w, (i as i64) / w);
+    let open = |j: i64| flags[j as usize] & OPEN != 0;
+    for (k, &(dx, dy, _)) in STEPS.iter().enumerate() {
+        let (nx, ny) = (x + dx, y + dy);
+        if nx < 0 || ny < 0 || nx >= w || ny >= h {
+            continue;
+        }
+        let j = (ny * w + nx) as usize;
+        let (c, queue) = if k < 4 {
+            (straight_cost, &mut *to_straight)
+        } else {
+            if !diagonal_ok || !open(y * w + nx) || !open(ny * w + x) {
+                continue;
+            }
+            (diagonal_cost, &mut *to_diagonal)
+        };
+        if c < cost[j] {
+            cost[j] = c;
+            queue.push(j as u32);
+        }
     }
 }
 
@@ -246,8 +389,64 @@ mod tests {
     #[test]
     fn max_cost_limits_the_sweep() {
         let g = GridGeometry::new(50, 1, 1.0, Point::default());
-        let f = sweep(&g, &vec![true; 50], &[0], 10 * STRAIGHT);
+        let f = sweep(&g, &[true; 50], &[0], 10 * STRAIGHT);
         assert!(f.reached(10));
         assert!(!f.reached(11));
+    }
+
+    /// Textbook Dijkstra with a binary heap and bounds checks, for comparison.
+    fn reference(
+        g: &GridGeometry,
+        passable: &[bool],
+        sources: &[usize],
+        max_cost: u32,
+    ) -> Vec<u32> {
+        use std::cmp::Reverse;
+        use std::collections::BinaryHeap;
+        let (w, h) = (g.width as i64, g.height as i64);
+        let mut cost = vec![UNREACHED; g.len()];
+        let mut heap = BinaryHeap::new();
+        for &s in sources {
+            cost[s] = 0;
+            heap.push(Reverse((0u32, s)));
+        }
+        while let Some(Reverse((c, i))) = heap.pop() {
+            if c != cost[i] {
+                continue;
+            }
+            let (x, y) = ((i as i64) % w, (i as i64) / w);
+            for (k, &(dx, dy, step)) in STEPS.iter().enumerate() {
+                let (nx, ny) = (x + dx, y + dy);
+                if nx < 0 || ny < 0 || nx >= w || ny >= h {
+                    continue;
+                }
+                let j = (ny * w + nx) as usize;
+                let corners =
+                    k < 4 || (passable[(y * w + nx) as usize] && passable[(ny * w + x) as usize]);
+                let nc = c + step;
+                if passable[j] && corners && nc <= max_cost && nc < cost[j] {
+                    cost[j] = nc;
+                    heap.push(Reverse((nc, j)));
+                }
+            }
+        }
+        cost
+    }
+
+    proptest::proptest! {
+        #[test]
+        fn sweep_matches_textbook_dijkstra(
+            w in 1usize..30,
+            h in 1usize..30,
+            bits in proptest::collection::vec(0u8..4, 900),
+            sources in proptest::collection::vec(0usize..900, 1..4),
+            max_cost in proptest::sample::select(vec![0u32, 29, 100, 500, UNREACHED]),
+        ) {
+            let g = GridGeometry::new(w, h, 0.1, Point::default());
+            let passable: Vec<bool> = (0..g.len()).map(|i| bits[i] != 0).collect();
+            let sources: Vec<usize> = sources.iter().map(|&s| s % g.len()).collect();
+            let f = sweep(&g, &passable, &sources, max_cost);
+            proptest::prop_assert_eq!(f.cost, reference(&g, &passable, &sources, max_cost));
+        }
     }
 }

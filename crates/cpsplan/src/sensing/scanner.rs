@@ -10,7 +10,7 @@ use crate::world::{CellState, OccupancyGrid};
 /// What one scan added to the knowledge map.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
 pub struct ScanOutcome {
-    /// Cells seen in this scan (new or not).
+    /// Cells seen by the sweep in this scan (new or not; wall completion not counted).
     pub seen: usize,
     /// Cells that were Unknown before and are now Free.
     pub new_free: usize,
@@ -23,6 +23,12 @@ pub struct ScanOutcome {
 /// called for each cell that was Unknown before. Anything in `truth` that is not
 /// Free stops the beam and is recorded as Occupied, so the knowledge map never
 /// contradicts a solidified ground truth.
+///
+/// *Wall completion*: the beams that cross a visible free cell go on until they hit
+/// something, so a wall cell that shares a face with a visible free cell, on the
+/// far side of it as seen from the scanner (along either axis) and within range, is
+/// seen too. The grid sweep alone can miss such cells at grazing angles, and every
+/// one it misses would look like frontier.
 pub fn scan(
     truth: &OccupancyGrid,
     knowledge: &mut OccupancyGrid,
@@ -32,9 +38,24 @@ pub fn scan(
 ) -> ScanOutcome {
     let geometry = *truth.geometry();
     debug_assert_eq!(geometry.len(), knowledge.cells().len());
+    let (w, h) = (geometry.width, geometry.height);
     let t = truth.cells();
     let k = knowledge.cells_mut();
+    let r2 = range_cells * range_cells + 1e-9;
+    let (ax, ay) = (at.x as i64, at.y as i64);
     let mut out = ScanOutcome::default();
+    let mut reveal = |i: usize, k: &mut [CellState], out: &mut ScanOutcome| {
+        if k[i] == CellState::Unknown {
+            if t[i] == CellState::Free {
+                out.new_free += 1;
+                k[i] = CellState::Free;
+            } else {
+                out.new_occupied += 1;
+                k[i] = CellState::Occupied;
+            }
+            on_new(i);
+        }
+    };
     visible_cells(
         &geometry,
         at,
@@ -42,16 +63,23 @@ pub fn scan(
         |i| t[i] != CellState::Free,
         |i| {
             out.seen += 1;
-            if k[i] == CellState::Unknown {
-                let state = if t[i] == CellState::Free {
-                    out.new_free += 1;
-                    CellState::Free
-                } else {
-                    out.new_occupied += 1;
-                    CellState::Occupied
-                };
-                k[i] = state;
-                on_new(i);
+            reveal(i, k, &mut out);
+            if t[i] == CellState::Free {
+                let (x, y) = ((i % w) as i64, (i / w) as i64);
+                let (sx, sy) = ((x - ax).signum(), (y - ay).signum());
+                for (nx, ny) in [(x + sx, y), (x, y + sy)] {
+                    if (nx, ny) == (x, y) || nx < 0 || ny < 0 || nx >= w as i64 || ny >= h as i64 {
+                        continue;
+                    }
+                    let (dx, dy) = ((nx - ax) as f64, (ny - ay) as f64);
+                    let j = ny as usize * w + nx as usize;
+                    if t[j] != CellState::Free
+                        && k[j] == CellState::Unknown
+                        && dx * dx + dy * dy <= r2
+                    {
+                        reveal(j, k, &mut out);
+                    }
+                }
             }
             false
         },

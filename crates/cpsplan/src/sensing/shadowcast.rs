@@ -182,10 +182,10 @@ where
             }
             match (prev, wall) {
                 (Some(true), false) => start = Slope::of_tile(depth, col),
-                (Some(false), true) => {
-                    if self.scan_row(q, depth + 1, start, Slope::of_tile(depth, col)) {
-                        return true;
-                    }
+                (Some(false), true)
+                    if self.scan_row(q, depth + 1, start, Slope::of_tile(depth, col)) =>
+                {
+                    return true;
                 }
                 _ => {}
             }

@@ -1,41 +1,53 @@
 //! Coverage measures of a simulated episode.
 //!
-//! - `coverage`: known-Free cells among the ground-truth free cells 4-connected to
-//!   the start, over the latter.
-//! - `wall_coverage`: seen cells among the ground-truth occupied cells 8-adjacent to
-//!   that free region, over the latter.
-//!
-//! The denominator counts every free cell a point-sized robot could reach, so free
-//! space behind gaps narrower than the robot counts as missed.
+//! - `coverage`: known-Free cells among the ground-truth free cells *reachable from
+//!   the start* by the robot, over the latter. Reachable means inside the robot's
+//!   footprint at some drivable position (a free cell with at least the robot
+//!   radius of clearance, connected to the start through such cells): the free
+//!   space the robot can get to.
+//! - `wall_coverage`: seen cells among the ground-truth occupied cells that share a
+//!   face with that reachable free space (its wall surface), over the latter. Cells
+//!   that touch it only at a corner are not counted: no beam from inside can hit
+//!   them.
+//! - `connected_coverage`: the same share over every free cell 4-connected to the
+//!   start, including space behind gaps narrower than the robot (doors drawn half
+//!   shut, laser streaks of a SLAM map): a stricter figure for comparison.
 
 use crate::geom::Cell;
+use crate::planning::distance::transform;
+use crate::planning::reach::{sweep, UNREACHED};
+use crate::planning::Traversability;
 use crate::world::{CellState, OccupancyGrid};
 
 /// Tracks coverage incrementally as scans reveal cells.
 #[derive(Debug, Clone)]
 pub struct CoverageTracker {
-    /// Per cell: 1 if a reachable free cell, 2 if a wall bordering them, else 0.
+    /// Per cell: a bit set of [`REACHABLE`], [`WALL`], [`CONNECTED`].
     role: Vec<u8>,
     free_total: usize,
     wall_total: usize,
+    connected_total: usize,
     free_seen: usize,
     wall_seen: usize,
+    connected_seen: usize,
 }
 
-const FREE: u8 = 1;
+const REACHABLE: u8 = 1;
 const WALL: u8 = 2;
+const CONNECTED: u8 = 4;
 
 impl CoverageTracker {
-    /// Sets up the measure for `truth` and a robot starting at `start`, counting the
-    /// cells `knowledge` already knows.
-    pub fn new(truth: &OccupancyGrid, start: Cell, knowledge: &OccupancyGrid) -> Self {
+    /// Sets up the measures for `truth` (anything not Free is solid) and a robot of
+    /// `radius` metres starting at `start`, counting the cells `knowledge` already
+    /// knows.
+    pub fn new(truth: &OccupancyGrid, start: Cell, radius: f64, knowledge: &OccupancyGrid) -> Self {
         let g = truth.geometry();
         let (w, h) = (g.width as i64, g.height as i64);
         let t = truth.cells();
         let mut role = vec![0u8; g.len()];
         let s = g.index(start);
         if t[s] == CellState::Free {
-            role[s] = FREE;
+            role[s] = CONNECTED;
             let mut stack = vec![s];
             while let Some(i) = stack.pop() {
                 let (x, y) = ((i as i64) % w, (i as i64) / w);
@@ -46,36 +58,48 @@ impl CoverageTracker {
                     }
                     let j = (ny * w + nx) as usize;
                     if role[j] == 0 && t[j] == CellState::Free {
-                        role[j] = FREE;
+                        role[j] = CONNECTED;
                         stack.push(j);
                     }
                 }
             }
-        }
-        for i in 0..g.len() {
-            if role[i] != FREE {
-                continue;
-            }
-            let (x, y) = ((i as i64) % w, (i as i64) / w);
-            for dy in -1..=1 {
-                for dx in -1..=1 {
-                    let (nx, ny) = (x + dx, y + dy);
-                    if nx < 0 || ny < 0 || nx >= w || ny >= h {
-                        continue;
-                    }
-                    let j = (ny * w + nx) as usize;
-                    if t[j] != CellState::Free && role[j] == 0 {
-                        role[j] = WALL;
-                    }
+            // Drivable positions connected to the start, and their footprints.
+            let solid = truth.solidified();
+            let trav = Traversability::new(&solid, radius, start);
+            let field = sweep(g, &trav.passable, &[s], UNREACHED);
+            let reach = radius / g.resolution + 0.5;
+            let d = transform(g.width, g.height, |x, y| field.reached(y * g.width + x));
+            for (i, r) in role.iter_mut().enumerate() {
+                if *r & CONNECTED != 0 && d[i] as f64 <= reach + 1e-9 {
+                    *r |= REACHABLE;
                 }
             }
         }
+        for i in 0..g.len() {
+            if role[i] & REACHABLE == 0 {
+                continue;
+            }
+            let (x, y) = ((i as i64) % w, (i as i64) / w);
+            for (dx, dy) in [(1, 0), (-1, 0), (0, 1), (0, -1)] {
+                let (nx, ny) = (x + dx, y + dy);
+                if nx < 0 || ny < 0 || nx >= w || ny >= h {
+                    continue;
+                }
+                let j = (ny * w + nx) as usize;
+                if t[j] != CellState::Free {
+                    role[j] |= WALL;
+                }
+            }
+        }
+        let count = |bit: u8| role.iter().filter(|&&r| r & bit != 0).count();
         let mut me = Self {
-            free_total: role.iter().filter(|&&r| r == FREE).count(),
-            wall_total: role.iter().filter(|&&r| r == WALL).count(),
+            free_total: count(REACHABLE),
+            wall_total: count(WALL),
+            connected_total: count(CONNECTED),
             role,
             free_seen: 0,
             wall_seen: 0,
+            connected_seen: 0,
         };
         for (i, &k) in knowledge.cells().iter().enumerate() {
             if k != CellState::Unknown {
@@ -88,11 +112,15 @@ impl CoverageTracker {
     /// Records that cell `index` has just become known.
     #[inline]
     pub fn note_seen(&mut self, index: usize) {
-        match self.role[index] {
-            FREE => self.free_seen += 1,
-            WALL => self.wall_seen += 1,
-            _ => {}
-        }
+        let r = self.role[index];
+        self.free_seen += usize::from(r & REACHABLE != 0);
+        self.wall_seen += usize::from(r & WALL != 0);
+        self.connected_seen += usize::from(r & CONNECTED != 0);
+    }
+
+    /// Share of the free cells 4-connected to the start known so far.
+    pub fn connected_coverage(&self) -> f64 {
+        ratio(self.connected_seen, self.connected_total)
     }
 
     /// Share of reachable free cells known so far.
@@ -112,12 +140,17 @@ impl CoverageTracker {
 
     /// Whether cell `index` counts in the coverage denominator.
     pub fn is_reachable_free(&self, index: usize) -> bool {
-        self.role[index] == FREE
+        self.role[index] & REACHABLE != 0
+    }
+
+    /// Whether cell `index` is free and 4-connected to the start.
+    pub fn is_connected_free(&self, index: usize) -> bool {
+        self.role[index] & CONNECTED != 0
     }
 
     /// Whether cell `index` counts in the wall-coverage denominator.
     pub fn is_bordering_wall(&self, index: usize) -> bool {
-        self.role[index] == WALL
+        self.role[index] & WALL != 0
     }
 }
 
@@ -136,24 +169,37 @@ mod tests {
     use crate::world::GridGeometry;
 
     #[test]
-    fn counts_only_the_starts_region() {
-        let g = GridGeometry::new(10, 5, 0.1, Point::default());
+    fn counts_only_what_the_robot_can_reach() {
+        // Two 2 m × 2 m rooms joined by a 0.2 m slit, and a sealed third room.
+        let g = GridGeometry::new(80, 30, 0.1, Point::default());
         let mut t = OccupancyGrid::filled(g, CellState::Occupied);
-        t.fill_rect(1, 1, 4, 4, CellState::Free); // 9 cells, reachable
-        t.fill_rect(6, 1, 9, 4, CellState::Free); // 9 cells, sealed off
+        t.fill_rect(1, 1, 21, 21, CellState::Free); // 400 cells, the start's room
+        t.fill_rect(21, 10, 30, 12, CellState::Free); // slit, 2 cells wide
+        t.fill_rect(30, 1, 50, 21, CellState::Free); // behind the slit
+        t.fill_rect(55, 1, 75, 21, CellState::Free); // sealed
         let k = OccupancyGrid::filled(g, CellState::Unknown);
-        let mut c = CoverageTracker::new(&t, Cell::new(2, 2), &k);
-        assert_eq!(c.free_total(), 9);
+        let mut c = CoverageTracker::new(&t, Cell::new(10, 10), 0.25, &k);
+        assert_eq!(c.connected_total, 400 + 18 + 400);
+        // The robot (0.25 m) drives in its room; its footprint reaches the walls and
+        // the slit's mouth (one cell deep), not beyond.
+        assert_eq!(c.free_total(), 402);
+        assert!(c.is_reachable_free(g.index(Cell::new(21, 10))));
+        assert!(!c.is_reachable_free(g.index(Cell::new(22, 10))));
+        assert!(c.is_connected_free(g.index(Cell::new(40, 10))));
+        // Walls: the 80 cells sharing a face with the room, less the two free cells
+        // of the slit's mouth (whose side walls are already room walls).
+        assert_eq!(c.wall_total, 78);
         assert_eq!(c.coverage(), 0.0);
-        // Walls: 5×5 ring around the 3×3 room = 16 cells.
-        assert_eq!(c.wall_total, 16);
-        for y in 1..4 {
-            for x in 1..4 {
+        for y in 1..21 {
+            for x in 1..21 {
                 c.note_seen(g.index(Cell::new(x, y)));
             }
         }
-        c.note_seen(g.index(Cell::new(7, 2)));
+        c.note_seen(g.index(Cell::new(21, 10)));
+        c.note_seen(g.index(Cell::new(21, 11)));
+        c.note_seen(g.index(Cell::new(60, 5)));
         assert_eq!(c.coverage(), 1.0);
         assert_eq!(c.wall_coverage(), 0.0);
+        assert!((c.connected_coverage() - 402.0 / 818.0).abs() < 1e-12);
     }
 }

@@ -78,14 +78,14 @@ impl GridGeometry {
     }
 
     /// Grid-frame coordinates (metres from the origin, unrotated) of a world point.
-    fn to_local(&self, p: Point) -> (f64, f64) {
+    fn to_local(self, p: Point) -> (f64, f64) {
         let (dx, dy) = (p.x - self.origin.x, p.y - self.origin.y);
         let (s, c) = self.yaw.sin_cos();
         (c * dx + s * dy, -s * dx + c * dy)
     }
 
     /// World point of grid-frame coordinates.
-    fn to_world(&self, lx: f64, ly: f64) -> Point {
+    fn to_world(self, lx: f64, ly: f64) -> Point {
         let (s, c) = self.yaw.sin_cos();
         Point::new(
             self.origin.x + c * lx - s * ly,

@@ -68,7 +68,7 @@ impl BuiltinMap {
     pub const ALL: [BuiltinMap; 3] = [BuiltinMap::Office, BuiltinMap::Site, BuiltinMap::Tunnel];
 
     /// The map used when none is named.
-    pub const DEFAULT: BuiltinMap = BuiltinMap::Office;
+    pub const DEFAULT: BuiltinMap = BuiltinMap::Site;
 
     /// The map's name, as accepted by [`FromStr`] and used by serde.
     pub fn name(self) -> &'static str {
@@ -523,7 +523,7 @@ mod tests {
         let names: Vec<&str> = BuiltinMap::ALL.iter().map(|m| m.name()).collect();
         assert_eq!(names.join(", "), VALID_NAMES);
         assert_eq!(BuiltinMap::default(), BuiltinMap::DEFAULT);
-        assert_eq!(BuiltinMap::DEFAULT, BuiltinMap::Office);
+        assert_eq!(BuiltinMap::DEFAULT, BuiltinMap::Site);
     }
 
     #[test]

@@ -1,0 +1,235 @@
+//! End-to-end tests of the `cpsplan` command: a full episode on a built-in map,
+//! every bad-input case (exit code 2, one clear line, no output written), the
+//! `maps` command, and exploration of the shared real maps.
+
+use std::path::{Path, PathBuf};
+
+use assert_cmd::Command;
+use serde_json::Value;
+
+fn cpsplan() -> Command {
+    Command::cargo_bin("cpsplan").expect("binary built")
+}
+
+fn shared_maps() -> Option<PathBuf> {
+    let p = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/maps");
+    p.is_dir().then_some(p)
+}
+
+fn summary(dir: &Path) -> Value {
+    let text = std::fs::read_to_string(dir.join("summary.json")).expect("summary.json");
+    serde_json::from_str(&text).expect("valid JSON")
+}
+
+/// Runs `explore` and asserts a clean failure: exit 2, one line naming `needle`,
+/// and no output directory.
+fn assert_rejected(args: &[&str], needle: &str) {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("out");
+    let result = cpsplan()
+        .arg("explore")
+        .args(args)
+        .arg("--out")
+        .arg(&out)
+        .arg("--quiet")
+        .output()
+        .unwrap();
+    assert_eq!(result.status.code(), Some(2), "args {args:?}");
+    let err = String::from_utf8_lossy(&result.stderr);
+    assert!(
+        err.contains(needle),
+        "stderr for {args:?} lacks `{needle}`: {err}"
+    );
+    assert!(!err.contains("panicked"), "{err}");
+    assert!(!out.exists(), "output written for rejected input {args:?}");
+}
+
+#[test]
+fn explore_builtin_site_writes_every_output() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("report");
+    cpsplan()
+        .args(["explore", "--builtin", "site", "--quiet", "--out"])
+        .arg(&out)
+        .assert()
+        .success();
+    for f in [
+        "summary.json",
+        "episode.json",
+        "metrics.csv",
+        "map.png",
+        "knowledge.yaml",
+        "knowledge.pgm",
+    ] {
+        assert!(out.join(f).is_file(), "{f} missing");
+    }
+    let s = summary(&out);
+    assert!(s["coverage"].as_f64().unwrap() >= 0.99, "{s}");
+    assert!(s["wall_coverage"].as_f64().unwrap() >= 0.97, "{s}");
+    assert_eq!(s["stop_reason"], "complete");
+    let scans = s["scans"].as_u64().unwrap() as usize;
+    for key in ["parent_travel_m", "seed", "wall_ms"] {
+        assert!(s.get(key).is_some(), "summary lacks {key}");
+    }
+    // episode.json: one step per scan, candidates with their Eq. (1) terms, paths.
+    let ep: Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("episode.json")).unwrap()).unwrap();
+    let steps = ep["steps"].as_array().unwrap();
+    assert_eq!(steps.len(), scans);
+    let first = &steps[0]["plan"];
+    let cand = &first["candidates"][0];
+    for key in ["r", "p", "l_m", "s_cells", "g"] {
+        assert!(cand.get(key).is_some(), "candidate lacks {key}");
+    }
+    assert!(first["path"].as_array().unwrap().len() >= 2);
+    // metrics.csv: a header and one row per scan.
+    let csv = std::fs::read_to_string(out.join("metrics.csv")).unwrap();
+    assert_eq!(csv.lines().count(), scans + 1);
+    // The knowledge map is a loadable ROS map of the same size.
+    let k = cpsplan_cli::formats::rosmap::load_map(&out.join("knowledge.yaml")).unwrap();
+    assert_eq!((k.width(), k.height()), (800, 600));
+}
+
+#[test]
+fn same_seed_gives_identical_episode_records() {
+    let tmp = tempfile::tempdir().unwrap();
+    let run = |name: &str| {
+        let out = tmp.path().join(name);
+        cpsplan()
+            .args([
+                "explore",
+                "--builtin",
+                "tunnel",
+                "--max-scans",
+                "8",
+                "--seed",
+                "3",
+                "--quiet",
+                "--out",
+            ])
+            .arg(&out)
+            .assert()
+            .success();
+        std::fs::read(out.join("episode.json")).unwrap()
+    };
+    assert_eq!(run("a"), run("b"));
+}
+
+#[test]
+fn config_file_and_flags_are_applied() {
+    let tmp = tempfile::tempdir().unwrap();
+    let cfg = tmp.path().join("run.toml");
+    std::fs::write(&cfg, "[parent]\nalpha = 0.0\n[scanner]\nrange = 12.0\n").unwrap();
+    let out = tmp.path().join("out");
+    cpsplan()
+        .args([
+            "explore",
+            "--builtin",
+            "office",
+            "--max-scans",
+            "3",
+            "--beta",
+            "0.002",
+            "--quiet",
+            "--config",
+        ])
+        .arg(&cfg)
+        .arg("--out")
+        .arg(&out)
+        .assert()
+        .success();
+    let s = summary(&out);
+    assert_eq!(s["config"]["parent"]["alpha"], 0.0);
+    assert_eq!(s["config"]["parent"]["beta"], 0.002);
+    assert_eq!(s["config"]["scanner"]["range"], 12.0);
+    assert_eq!(s["stop_reason"], "scan_limit");
+    assert_eq!(s["scans"], 3);
+}
+
+#[test]
+fn bad_inputs_are_rejected_cleanly() {
+    let tmp = tempfile::tempdir().unwrap();
+    let missing = tmp.path().join("nope.yaml");
+    assert_rejected(&["--map", missing.to_str().unwrap()], "nope.yaml");
+    let garbage = tmp.path().join("garbage.yaml");
+    std::fs::write(
+        &garbage,
+        "image: x.pgm\nresolution: 0.05\norigin: [0, 0, 0]\n",
+    )
+    .unwrap();
+    assert_rejected(&["--map", garbage.to_str().unwrap()], "x.pgm");
+    let bad_cfg = tmp.path().join("bad.toml");
+    std::fs::write(&bad_cfg, "[parent]\nalfa = 1\n").unwrap();
+    assert_rejected(&["--config", bad_cfg.to_str().unwrap()], "alfa");
+    assert_rejected(&["--range", "-5"], "scanner.range");
+    assert_rejected(&["--resolution", "0"], "resolution");
+    assert_rejected(&["--start", "-50,3"], "outside the map");
+    assert_rejected(&["--start", "1000,1000"], "outside the map");
+    // (0.05, 0.05) is in the office's solid border.
+    assert_rejected(&["--start", "0.05,0.05"], "not free space");
+    assert_rejected(&["--start", "abc"], "X,Y");
+    assert_rejected(&["--builtin", "moon"], "moon");
+}
+
+#[test]
+fn maps_lists_and_exports() {
+    let listing = cpsplan().arg("maps").output().unwrap();
+    assert!(listing.status.success());
+    let text = String::from_utf8_lossy(&listing.stdout);
+    for name in ["office", "site", "tunnel"] {
+        assert!(text.contains(name));
+    }
+    let tmp = tempfile::tempdir().unwrap();
+    cpsplan()
+        .args(["maps", "--export"])
+        .arg(tmp.path())
+        .assert()
+        .success();
+    for name in ["office", "site", "tunnel"] {
+        let grid = cpsplan_cli::formats::rosmap::load_map(&tmp.path().join(format!("{name}.yaml")))
+            .unwrap();
+        let builtin: cpsplan::world::builtin::BuiltinMap = name.parse().unwrap();
+        assert_eq!(
+            grid,
+            builtin.generate(0),
+            "{name} export does not round-trip"
+        );
+        assert!(tmp.path().join(format!("{name}.png")).is_file());
+    }
+}
+
+/// Shared real maps explored to completion from the default start (the free cell
+/// with the most clearance in the largest free region). Maps that are slow or need
+/// more than the default scan budget are covered by the ignored test below.
+#[test]
+fn shared_real_maps_are_explored() {
+    let Some(dir) = shared_maps() else {
+        eprintln!("../shared/maps not found: skipping");
+        return;
+    };
+    let tmp = tempfile::tempdir().unwrap();
+    for (name, min_coverage) in [
+        ("turtlebot3_world", 0.99),
+        ("aws_bookstore", 0.99),
+        ("aws_small_house", 0.99),
+        ("aws_small_warehouse", 0.99),
+        ("nav2_depot", 0.99),
+        ("nav2_warehouse", 0.99),
+        ("mit_stata_basement", 0.99),
+        ("intel_lab", 0.95),
+        ("yujin_rnd_office", 0.95),
+    ] {
+        let out = tmp.path().join(name);
+        cpsplan()
+            .args(["explore", "--quiet", "--map"])
+            .arg(dir.join(format!("{name}.yaml")))
+            .arg("--out")
+            .arg(&out)
+            .assert()
+            .success();
+        let s = summary(&out);
+        assert_ne!(s["stop_reason"], "scan_limit", "{name}: {s}");
+        let c = s["coverage"].as_f64().unwrap();
+        assert!(c >= min_coverage, "{name}: coverage {c} < {min_coverage}");
+    }
+}

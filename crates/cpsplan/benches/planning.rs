@@ -1,0 +1,178 @@
+//! Criterion benchmarks of the parent planning step, stage by stage, on a
+//! mid-episode knowledge map of the built-in office (800 × 600 cells, 20 m range),
+//! and of a whole episode on the built-in site.
+//!
+//! `cargo bench -p cpsplan --bench planning`
+//!
+//! The knowledge map is made deterministically: an office episode (seed 0) stopped
+//! after 15 scans; the parent stands where the 15th scan was taken. A second group
+//! repeats the two dearest stages after 100 scans, when most of the floor is known
+//! and the travel-distance sweep covers nearly the whole grid.
+
+use std::hint::black_box;
+use std::time::Duration;
+
+use criterion::{criterion_group, criterion_main, Criterion};
+use rand::SeedableRng;
+use rand_chacha::ChaCha8Rng;
+
+use cpsplan::geom::Cell;
+use cpsplan::planning::frontier::{band, border_cells};
+use cpsplan::planning::kmeans::kmeans;
+use cpsplan::planning::reach::{sweep, UNREACHED};
+use cpsplan::planning::{plan_parent, Traversability};
+use cpsplan::sensing::expected_gain;
+use cpsplan::world::builtin::BuiltinMap;
+use cpsplan::{run_episode, Config, OccupancyGrid};
+
+/// The office knowledge map after 15 scans, the parent's cell, the last plan's
+/// target cell and its band samples (cell units).
+struct MidEpisode {
+    config: Config,
+    knowledge: OccupancyGrid,
+    parent: Cell,
+    target: Cell,
+    samples: Vec<[f64; 2]>,
+}
+
+fn mid_episode(scans: usize) -> MidEpisode {
+    let map = BuiltinMap::Office;
+    let mut config = Config::default();
+    config.mission.max_scans = scans;
+    let truth = map.generate(0);
+    let episode = run_episode(&truth, map.default_start(), &config, |_| {}).expect("episode");
+    let knowledge = episode.knowledge.expect("knowledge map");
+    let last = episode.steps.last().expect("at least one step");
+    let g = *knowledge.geometry();
+    let samples = last
+        .plan
+        .samples
+        .iter()
+        .map(|p| {
+            [
+                (p.x - g.origin.x) / g.resolution,
+                (p.y - g.origin.y) / g.resolution,
+            ]
+        })
+        .collect();
+    MidEpisode {
+        config,
+        parent: last.cell,
+        target: last.plan.target().expect("a target").cell,
+        knowledge,
+        samples,
+    }
+}
+
+fn stages(c: &mut Criterion) {
+    let m = mid_episode(15);
+    let k = &m.knowledge;
+    let g = *k.geometry();
+    let config = &m.config;
+    let radius = config.robot.radius;
+
+    let mut group = c.benchmark_group("office_mid_episode");
+    group
+        .sample_size(30)
+        .warm_up_time(Duration::from_millis(500))
+        .measurement_time(Duration::from_secs(3));
+
+    group.bench_function("traversability", |b| {
+        b.iter(|| Traversability::new(black_box(k), radius, m.parent))
+    });
+    let trav = Traversability::new(k, radius, m.parent);
+    group.bench_function("reach_sweep", |b| {
+        b.iter(|| {
+            sweep(
+                &g,
+                black_box(&trav.passable),
+                &[g.index(m.parent)],
+                UNREACHED,
+            )
+        })
+    });
+    group.bench_function("border_and_band", |b| {
+        b.iter(|| {
+            let border = border_cells(black_box(k));
+            band(k, &border, config.parent.band_width)
+        })
+    });
+    group.bench_function("expected_gain", |b| {
+        b.iter(|| expected_gain(black_box(k), m.target, config.range_cells(), usize::MAX))
+    });
+    let border = border_cells(k);
+    let (band_cells, _) = band(k, &border, config.parent.band_width);
+    let band_area = band_cells.len() as f64 * g.resolution * g.resolution;
+    let clusters = ((band_area / config.parent.cluster_area).ceil() as usize)
+        .clamp(1, config.parent.max_clusters);
+    group.bench_function("kmeans", |b| {
+        b.iter(|| {
+            let mut rng = ChaCha8Rng::seed_from_u64(7);
+            kmeans(
+                black_box(&m.samples),
+                clusters,
+                config.parent.kmeans_iterations,
+                &mut rng,
+            )
+        })
+    });
+    group.bench_function("plan_parent", |b| {
+        b.iter(|| {
+            let mut rng = ChaCha8Rng::seed_from_u64(7);
+            plan_parent(black_box(k), m.parent, config, &mut rng)
+        })
+    });
+    group.finish();
+}
+
+fn late_stages(c: &mut Criterion) {
+    let m = mid_episode(100);
+    let k = &m.knowledge;
+    let g = *k.geometry();
+    let config = &m.config;
+    let mut group = c.benchmark_group("office_late_episode");
+    group
+        .sample_size(20)
+        .warm_up_time(Duration::from_millis(500))
+        .measurement_time(Duration::from_secs(3));
+    let trav = Traversability::new(k, config.robot.radius, m.parent);
+    group.bench_function("reach_sweep", |b| {
+        b.iter(|| {
+            sweep(
+                &g,
+                black_box(&trav.passable),
+                &[g.index(m.parent)],
+                UNREACHED,
+            )
+        })
+    });
+    group.bench_function("plan_parent", |b| {
+        b.iter(|| {
+            let mut rng = ChaCha8Rng::seed_from_u64(7);
+            plan_parent(black_box(k), m.parent, config, &mut rng)
+        })
+    });
+    group.finish();
+}
+
+fn episode(c: &mut Criterion) {
+    let map = BuiltinMap::Site;
+    let truth = map.generate(0);
+    let config = Config::default();
+    let mut group = c.benchmark_group("episode");
+    group
+        .sample_size(10)
+        .warm_up_time(Duration::from_secs(1))
+        .measurement_time(Duration::from_secs(8));
+    group.bench_function("site_seed0", |b| {
+        b.iter(|| {
+            run_episode(black_box(&truth), map.default_start(), &config, |_| {})
+                .expect("episode")
+                .summary
+        })
+    });
+    group.finish();
+}
+
+criterion_group!(benches, stages, late_stages, episode);
+criterion_main!(benches);

@@ -1,0 +1,21 @@
+#!/usr/bin/env bash
+# Explores every map in ../shared/maps from its default start and prints a
+# Markdown table of the results. Reports go to ${OUT:-/tmp/cpsplan-shared}/NAME/.
+# Usage: scripts/shared-maps.sh [extra explore flags...]
+set -euo pipefail
+cd "$(dirname "$0")/.."
+maps=../shared/maps
+out=${OUT:-/tmp/cpsplan-shared}
+cargo build --release --quiet
+echo "| map | scans | coverage | wall coverage | parent travel (m) | stop | wall time (s) |"
+echo "|---|---|---|---|---|---|---|"
+for yaml in "$maps"/*.yaml; do
+  name=$(basename "$yaml" .yaml)
+  target/release/cpsplan explore --map "$yaml" --out "$out/$name" --quiet "$@"
+  python3 - "$out/$name/summary.json" "$name" <<'PY'
+import json, sys
+s = json.load(open(sys.argv[1]))
+print(f"| {sys.argv[2]} | {s['scans']} | {s['coverage']:.4f} | {s['wall_coverage']:.4f} | "
+      f"{s['parent_travel_m']:.0f} | {s['stop_reason']} | {s['wall_ms'] / 1000:.1f} |")
+PY
+done
