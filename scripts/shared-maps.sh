@@ -7,15 +7,15 @@ cd "$(dirname "$0")/.."
 maps=../shared/maps
 out=${OUT:-/tmp/cpsplan-shared}
 cargo build --release --quiet
-echo "| map | scans | coverage | wall coverage | parent travel (m) | stop | wall time (s) |"
-echo "|---|---|---|---|---|---|---|"
+echo "| map | scans | coverage | wall coverage | connected coverage | parent travel (m) | stop | wall time (s) |"
+echo "|---|---|---|---|---|---|---|---|"
 for yaml in "$maps"/*.yaml; do
   name=$(basename "$yaml" .yaml)
-  target/release/cpsplan explore --map "$yaml" --out "$out/$name" --quiet "$@"
+  target/release/cpsplan explore --map "$yaml" --out "$out/$name" --quiet --max-scans 5000 "$@"
   python3 - "$out/$name/summary.json" "$name" <<'PY'
 import json, sys
 s = json.load(open(sys.argv[1]))
-print(f"| {sys.argv[2]} | {s['scans']} | {s['coverage']:.4f} | {s['wall_coverage']:.4f} | "
+print(f"| {sys.argv[2]} | {s['scans']} | {s['coverage']:.4f} | {s['wall_coverage']:.4f} | {s['connected_coverage']:.4f} | "
       f"{s['parent_travel_m']:.0f} | {s['stop_reason']} | {s['wall_ms'] / 1000:.1f} |")
 PY
 done

@@ -22,7 +22,7 @@ pub enum Scoring {
 /// The α of Eq. (1) that gives the travel term the weight 1 in normalized scoring.
 pub const ALPHA_UNIT: f64 = 1e-3;
 /// The β of Eq. (1) that gives the gain term the weight 1 in normalized scoring.
-pub const BETA_UNIT: f64 = 1e-5;
+pub const BETA_UNIT: f64 = 1e-4;
 
 /// The simulated scanner (section V-A).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -94,7 +94,7 @@ impl Default for ParentConfig {
             max_clusters: 24,
             kmeans_iterations: 30,
             min_gain_cells: 10,
-            min_frontier_cells: 1,
+            min_frontier_cells: 2,
         }
     }
 }
@@ -109,7 +109,7 @@ pub struct MissionConfig {
 
 impl Default for MissionConfig {
     fn default() -> Self {
-        Self { max_scans: 400 }
+        Self { max_scans: 1000 }
     }
 }
 

@@ -82,9 +82,10 @@ mod tests {
         }
     }
 
-    /// Near: short travel, small gain, wide clearance. Far: long travel, big gain.
+    /// Near: short travel, small gain, wide clearance. Far: twice the travel, three
+    /// times the gain.
     fn pair() -> [Terms; 2] {
-        [t(2.0, 3.0, 800), t(0.5, 30.0, 9000)]
+        [t(2.0, 10.0, 3000), t(0.5, 20.0, 9000)]
     }
 
     fn best(g: &[f64]) -> usize {
@@ -102,10 +103,17 @@ mod tests {
         assert_eq!(best(&evaluate(&p, 0.0, 0.001, Scoring::Normalized, 0.1)), 1);
         // β = 0: the shortest travel wins.
         assert_eq!(best(&evaluate(&p, 0.01, 0.0, Scoring::Normalized, 0.1)), 0);
-        // Defaults favour area (section V-A-2).
+        // Defaults weigh area against travel: three times the area is worth twice
+        // the way, ...
         assert_eq!(
             best(&evaluate(&p, 0.01, 0.001, Scoring::Normalized, 0.1)),
             1
+        );
+        // ... ten times the way is not.
+        let far = [t(2.0, 3.0, 3000), t(0.5, 30.0, 9000)];
+        assert_eq!(
+            best(&evaluate(&far, 0.01, 0.001, Scoring::Normalized, 0.1)),
+            0
         );
     }
 
