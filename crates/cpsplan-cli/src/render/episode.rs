@@ -114,7 +114,18 @@ pub(crate) fn draw_overlay(
         let _ = write!(label, "{}", i + 1);
         let w = text_width(&label, style.g) - g + 2 * pad;
         let h = 7 * g + 2 * pad;
-        let (rect, far) = placer.place(i, dot, radius_of(i) + 2.5, w as f32, h as f32, style);
+        let required = i == 0 || i == last;
+        let Some((rect, far)) = placer.place(
+            i,
+            dot,
+            radius_of(i) + 2.5,
+            w as f32,
+            h as f32,
+            style,
+            required,
+        ) else {
+            continue; // no room: the marker stays, unlabelled
+        };
         let (x, y) = (rect.x.round() as i64, rect.y.round() as i64);
         if far {
             let (bx, by) = (x as f32 + w as f32 / 2.0, y as f32 + h as f32 / 2.0);
@@ -233,6 +244,10 @@ impl Placer {
 
     /// Chooses the box of `w × h` pixels for marker `index` at `dot` of radius `r`;
     /// also says whether it sits away from the marker (and needs a leader line).
+    /// Where every spot would cover more than a sixth of an earlier label, the label
+    /// is left out (`None`) unless it is `required`: in dense clusters of scans an
+    /// unreadable pile of numbers helps nobody.
+    #[allow(clippy::too_many_arguments)]
     fn place(
         &mut self,
         index: usize,
@@ -241,7 +256,8 @@ impl Placer {
         w: f32,
         h: f32,
         style: Style,
-    ) -> (Rect, bool) {
+        required: bool,
+    ) -> Option<(Rect, bool)> {
         const DIRS: [(f32, f32); 8] = [
             (1.0, -1.0),
             (-1.0, -1.0),
@@ -278,9 +294,24 @@ impl Placer {
                 break;
             }
         }
+        if !required && self.label_overlap(&best.1) > w * h / 6.0 {
+            return None;
+        }
         self.index.insert(self.taken.len(), &best.1);
         self.taken.push(best.1);
-        (best.1, best.2)
+        Some((best.1, best.2))
+    }
+
+    /// Area of `rect` covered by labels placed so far.
+    fn label_overlap(&mut self, rect: &Rect) -> f32 {
+        let (taken, markers) = (&self.taken, self.markers);
+        let mut area = 0.0;
+        self.index.for_each_near(rect, |j| {
+            if j >= markers {
+                area += rect.overlap(&taken[j]);
+            }
+        });
+        area
     }
 
     /// How much a label at `rect` would hide: leaving the canvas or the map, covering
