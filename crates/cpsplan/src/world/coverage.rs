@@ -17,6 +17,7 @@ use crate::geom::Cell;
 use crate::planning::distance::transform;
 use crate::planning::reach::{sweep, UNREACHED};
 use crate::planning::Traversability;
+use crate::world::region::flood4;
 use crate::world::{CellState, OccupancyGrid};
 
 /// Tracks coverage incrementally as scans reveal cells.
@@ -47,20 +48,10 @@ impl CoverageTracker {
         let mut role = vec![0u8; g.len()];
         let s = g.index(start);
         if t[s] == CellState::Free {
-            role[s] = CONNECTED;
-            let mut stack = vec![s];
-            while let Some(i) = stack.pop() {
-                let (x, y) = ((i as i64) % w, (i as i64) / w);
-                for (dx, dy) in [(1, 0), (-1, 0), (0, 1), (0, -1)] {
-                    let (nx, ny) = (x + dx, y + dy);
-                    if nx < 0 || ny < 0 || nx >= w || ny >= h {
-                        continue;
-                    }
-                    let j = (ny * w + nx) as usize;
-                    if role[j] == 0 && t[j] == CellState::Free {
-                        role[j] = CONNECTED;
-                        stack.push(j);
-                    }
+            let connected = flood4(g.width, g.height, s, |i| t[i] == CellState::Free);
+            for (r, c) in role.iter_mut().zip(connected) {
+                if c {
+                    *r = CONNECTED;
                 }
             }
             // Drivable positions connected to the start, and their footprints.

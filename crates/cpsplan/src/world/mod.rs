@@ -4,6 +4,7 @@
 pub mod builtin;
 mod coverage;
 mod grid;
+pub mod region;
 mod resample;
 mod start;
 

@@ -2,6 +2,7 @@
 
 use crate::geom::Point;
 use crate::planning::distance::distance_transform;
+use crate::world::region::label4;
 use crate::world::{CellState, OccupancyGrid};
 
 /// The free cell with the largest clearance in the largest 4-connected free region
@@ -10,50 +11,24 @@ pub fn default_start(truth: &OccupancyGrid) -> Option<Point> {
     let g = truth.geometry();
     let t = truth.cells();
     let (w, h) = (g.width, g.height);
-    let mut label = vec![u32::MAX; g.len()];
-    let mut best_region = (0usize, 0u32);
-    let mut next = 0u32;
-    for s in 0..g.len() {
-        if t[s] != CellState::Free || label[s] != u32::MAX {
-            continue;
-        }
-        let mut size = 0;
-        let mut stack = vec![s];
-        label[s] = next;
-        while let Some(i) = stack.pop() {
-            size += 1;
-            let (x, y) = (i % w, i / w);
-            let mut push = |j: usize| {
-                if t[j] == CellState::Free && label[j] == u32::MAX {
-                    label[j] = next;
-                    stack.push(j);
-                }
-            };
-            if x > 0 {
-                push(i - 1);
+    let (label, sizes) = label4(w, h, |i| t[i] == CellState::Free);
+    let (region, _) = sizes
+        .iter()
+        .enumerate()
+        .fold((u32::MAX, 0usize), |best, (id, &n)| {
+            if n > best.1 {
+                (id as u32, n)
+            } else {
+                best
             }
-            if x + 1 < w {
-                push(i + 1);
-            }
-            if y > 0 {
-                push(i - w);
-            }
-            if y + 1 < h {
-                push(i + w);
-            }
-        }
-        if size > best_region.0 {
-            best_region = (size, next);
-        }
-        next += 1;
-    }
-    if best_region.0 == 0 {
+        });
+    if region == u32::MAX {
         return None;
     }
     let d = distance_transform(g, |i| t[i] != CellState::Free);
     let mut best: Option<(f32, usize)> = None;
     for i in 0..g.len() {
-        if label[i] == best_region.1 {
+        if label[i] == region {
             let edge = ((i % w).min(i / w).min(w - 1 - i % w).min(h - 1 - i / w) + 1) as f32;
             let c = d[i].min(edge);
             if best.is_none_or(|(b, _)| c > b) {

@@ -282,31 +282,7 @@ impl Canvas {
 
 /// The cells of `mask` 4-connected to `seed` (which must be in `mask`).
 fn flood4(mask: &[bool], w: usize, h: usize, seed: Cell) -> Vec<bool> {
-    let mut seen = vec![false; mask.len()];
-    let mut stack = vec![seed.y * w + seed.x];
-    seen[seed.y * w + seed.x] = true;
-    while let Some(i) = stack.pop() {
-        let (x, y) = (i % w, i / w);
-        let mut push = |j: usize| {
-            if mask[j] && !seen[j] {
-                seen[j] = true;
-                stack.push(j);
-            }
-        };
-        if x > 0 {
-            push(i - 1);
-        }
-        if x + 1 < w {
-            push(i + 1);
-        }
-        if y > 0 {
-            push(i - w);
-        }
-        if y + 1 < h {
-            push(i + w);
-        }
-    }
-    seen
+    super::region::flood4(w, h, seed.y * w + seed.x, |i| mask[i])
 }
 
 /// Split `[start, end)` into spans of length `min..=max` separated by `gap` cells,
