@@ -2,6 +2,9 @@
 //! (distance transform, travel-distance sweep, traversability, straight legs,
 //! drivable paths).
 
+pub mod and_region;
+pub mod children;
+pub mod cps_cycle;
 pub mod distance;
 pub mod frontier;
 pub mod kmeans;
@@ -11,6 +14,8 @@ pub mod path;
 pub mod reach;
 pub mod score;
 pub mod traversability;
+pub mod visgraph;
+pub mod voronoi;
 
 pub use parent::{plan_parent, Candidate, CandidateOrigin, Decision, ParentPlan};
 pub use traversability::Traversability;
