@@ -8,7 +8,7 @@
 //! square metre, nearest first) for a position that does, and only stops when there
 //! is none.
 
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
 
 use rand::RngExt;
 use rand_chacha::ChaCha8Rng;
@@ -178,11 +178,7 @@ pub fn plan_parent(
     plan.band_cells = band_cells.len();
     plan.clusters = clustering.centroids.len();
     plan.sample_count = samples.len();
-    let to_point = |p: [f64; 2]| {
-        let (s, c) = g.yaw.sin_cos();
-        let (lx, ly) = (p[0] * g.resolution, p[1] * g.resolution);
-        Point::new(g.origin.x + c * lx - s * ly, g.origin.y + s * lx + c * ly)
-    };
+    let to_point = |p: [f64; 2]| g.grid_to_world(p[0] * g.resolution, p[1] * g.resolution);
     plan.samples = samples.iter().map(|&p| to_point(p)).collect();
 
     // Step 4: centroids as candidates, snapped to a valid member sample if needed.
@@ -192,7 +188,7 @@ pub fn plan_parent(
     for (s, &a) in clustering.assignment.iter().enumerate() {
         members[a].push(s);
     }
-    let mut seen_cells = HashMap::new();
+    let mut seen_cells = HashSet::new();
     for (ci, &centroid) in clustering.centroids.iter().enumerate() {
         let mut cell = cell_of(centroid);
         let mut origin = CandidateOrigin::Centroid;
@@ -211,7 +207,7 @@ pub fn plan_parent(
                 origin = CandidateOrigin::Snapped;
             }
         }
-        if seen_cells.insert(cell, ()).is_some() {
+        if !seen_cells.insert(cell) {
             continue;
         }
         plan.candidates.push(new_candidate(

@@ -84,8 +84,9 @@ impl GridGeometry {
         (c * dx + s * dy, -s * dx + c * dy)
     }
 
-    /// World point of grid-frame coordinates.
-    fn to_world(self, lx: f64, ly: f64) -> Point {
+    /// World point of grid-frame coordinates (metres from the origin along the
+    /// grid's rows and columns).
+    pub fn grid_to_world(self, lx: f64, ly: f64) -> Point {
         let (s, c) = self.yaw.sin_cos();
         Point::new(
             self.origin.x + c * lx - s * ly,
@@ -105,7 +106,7 @@ impl GridGeometry {
 
     /// World position of a cell's centre.
     pub fn cell_center(&self, cell: Cell) -> Point {
-        self.to_world(
+        self.grid_to_world(
             (cell.x as f64 + 0.5) * self.resolution,
             (cell.y as f64 + 0.5) * self.resolution,
         )
