@@ -13,6 +13,7 @@ mod parent;
 pub mod path;
 pub mod reach;
 pub mod score;
+pub mod subgoals;
 pub mod traversability;
 pub mod visgraph;
 pub mod voronoi;

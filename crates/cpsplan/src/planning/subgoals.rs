@@ -1,0 +1,187 @@
+//! Subgoal retrieval with the Visibility Graph (section IV-C, steps 1–8): when no
+//! AND region joins the parent's current and target positions, the parent's
+//! shortest path through the Visibility Graph is cut into legs, each with an AND
+//! region, retrieving subgoals backwards from the target.
+//!
+//! 1. Check whether a cycle straight to the target has an AND region.
+//! 2. If not, build the Visibility Graph and find the shortest path.
+//! 3. Take the subgoal farthest along the path (the target first);
+//! 4. compute the AND region between the current position and the subgoal;
+//! 5. if it exists, place the children (Eq. 2);
+//! 6. if not, take the subgoal one step closer to the current position;
+//! 7. repeat 4–6 until an AND region exists;
+//! 8. make the subgoal the current position and repeat until the target is reached.
+//!
+//! Consecutive vertices of the path see each other, but an AND region also needs
+//! the children to reach it; when even the nearest subgoal has none, the move
+//! fails and the caller picks another target.
+
+use thiserror::Error;
+
+use super::cps_cycle::{plan_cycle, CpsCycle, CycleError, CycleParams};
+use super::visgraph::VisibilityGraph;
+use super::Traversability;
+use crate::geom::Cell;
+use crate::world::OccupancyGrid;
+
+/// The CPS cycles of one parent move.
+#[derive(Debug, Clone, PartialEq)]
+pub struct MovePlan {
+    /// The cycles in order; the last one ends at the target.
+    pub cycles: Vec<CpsCycle>,
+    /// Whether subgoals had to be retrieved (more than the direct cycle).
+    pub retrieved: bool,
+}
+
+/// Why a move cannot be planned.
+#[derive(Debug, Clone, PartialEq, Eq, Error)]
+pub enum MoveError {
+    /// The Visibility Graph has no path to the target.
+    #[error("no Visibility Graph path to the target")]
+    NoPath,
+    /// At this subgoal no next leg has an AND region the children can use.
+    #[error("no leg from ({}, {}) has an AND region", at.x, at.y)]
+    Stuck {
+        /// Where the retrieval stopped.
+        at: Cell,
+    },
+}
+
+/// Plans the cycles that take the parent (radius `parent_radius`) from `from` to
+/// `to` with the children at `children`.
+pub fn plan_move(
+    knowledge: &OccupancyGrid,
+    from: Cell,
+    to: Cell,
+    children: &[Cell],
+    parent_radius: f64,
+    params: &CycleParams,
+) -> Result<MovePlan, MoveError> {
+    // Step 1.
+    match plan_cycle(knowledge, from, to, children, params) {
+        Ok(cycle) => {
+            return Ok(MovePlan {
+                cycles: vec![cycle],
+                retrieved: false,
+            })
+        }
+        Err(CycleError::NoAndRegion { .. } | CycleError::NoJointPlacement) => {}
+    }
+    // Step 2.
+    let trav = Traversability::new(knowledge, parent_radius, from);
+    let graph = VisibilityGraph::build(knowledge, &trav);
+    let path = graph
+        .shortest_path(knowledge.geometry(), &trav, from, to)
+        .ok_or(MoveError::NoPath)?;
+    // Steps 3–8.
+    let mut cycles = Vec::new();
+    let mut here = 0;
+    let mut kids: Vec<Cell> = children.to_vec();
+    while here + 1 < path.len() {
+        let next = (here + 1..path.len()).rev().find_map(|j| {
+            plan_cycle(knowledge, path[here], path[j], &kids, params)
+                .ok()
+                .map(|c| (j, c))
+        });
+        let Some((j, cycle)) = next else {
+            return Err(MoveError::Stuck { at: path[here] });
+        };
+        kids = cycle.children.iter().map(|c| c.to).collect();
+        cycles.push(cycle);
+        here = j;
+    }
+    Ok(MovePlan {
+        cycles,
+        retrieved: true,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geom::Point;
+    use crate::planning::and_region::{certain_view, LinkRange};
+    use crate::planning::children::Eq2;
+    use crate::world::{CellState, GridGeometry};
+
+    fn params() -> CycleParams {
+        CycleParams {
+            child_radius: 0.25,
+            link: LinkRange {
+                min: 1.3,
+                max: 20.0,
+            },
+            eq2: Eq2 {
+                alpha_c: 1.0,
+                beta_c: 1.0,
+                theta_t: std::f64::consts::FRAC_PI_2,
+                d_t: 3.0,
+                clearance_cap: 5.0,
+            },
+        }
+    }
+
+    /// A U-shaped corridor 2 m wide: the two ends share no line of sight.
+    fn u_corridor() -> OccupancyGrid {
+        let g = GridGeometry::new(120, 120, 0.1, Point::default());
+        let mut k = OccupancyGrid::filled(g, CellState::Occupied);
+        k.fill_rect(5, 5, 25, 115, CellState::Free);
+        k.fill_rect(5, 95, 115, 115, CellState::Free);
+        k.fill_rect(95, 5, 115, 115, CellState::Free);
+        k
+    }
+
+    #[test]
+    fn u_turn_needs_subgoals_and_every_leg_keeps_the_links() {
+        let k = u_corridor();
+        let g = *k.geometry();
+        let (from, to) = (Cell::new(15, 10), Cell::new(105, 10));
+        let children = [Cell::new(15, 20), Cell::new(15, 30)];
+        let plan = plan_move(&k, from, to, &children, 0.25, &params()).unwrap();
+        assert!(plan.retrieved);
+        assert!(plan.cycles.len() >= 2, "{} cycles", plan.cycles.len());
+        assert_eq!(plan.cycles[0].parent_from, from);
+        assert_eq!(plan.cycles.last().unwrap().parent_to, to);
+        let link = params().link;
+        for (n, cycle) in plan.cycles.iter().enumerate() {
+            if n > 0 {
+                assert_eq!(cycle.parent_from, plan.cycles[n - 1].parent_to);
+            }
+            for c in &cycle.children {
+                let sees = certain_view(&k, c.to, link);
+                assert!(sees[g.index(cycle.parent_from)] && sees[g.index(cycle.parent_to)]);
+            }
+        }
+    }
+
+    #[test]
+    fn straight_corridor_needs_one_cycle() {
+        let k = u_corridor();
+        let plan = plan_move(
+            &k,
+            Cell::new(15, 10),
+            Cell::new(15, 80),
+            &[Cell::new(10, 20), Cell::new(20, 20)],
+            0.25,
+            &params(),
+        )
+        .unwrap();
+        assert!(!plan.retrieved);
+        assert_eq!(plan.cycles.len(), 1);
+    }
+
+    #[test]
+    fn unreachable_target_is_an_error() {
+        let mut k = u_corridor();
+        k.fill_rect(5, 60, 25, 62, CellState::Occupied);
+        let r = plan_move(
+            &k,
+            Cell::new(15, 10),
+            Cell::new(105, 10),
+            &[Cell::new(15, 20), Cell::new(15, 30)],
+            0.25,
+            &params(),
+        );
+        assert_eq!(r, Err(MoveError::NoPath));
+    }
+}
