@@ -69,6 +69,9 @@ pub struct ExploreArgs {
     /// Stop after this many scans.
     #[arg(long, value_name = "N")]
     pub max_scans: Option<usize>,
+    /// Number of child robots; with children every move runs as CPS cycles.
+    #[arg(long, value_name = "N")]
+    pub children: Option<usize>,
     /// Seed of every random choice (and of the built-in map's layout).
     #[arg(long, value_name = "N")]
     pub seed: Option<u64>,
@@ -156,6 +159,9 @@ pub fn build_config(args: &ExploreArgs) -> Result<Config> {
     }
     if let Some(n) = args.max_scans {
         config.mission.max_scans = n;
+    }
+    if let Some(n) = args.children {
+        config.children.count = n;
     }
     if let Some(s) = args.seed {
         config.seed = s;

@@ -46,6 +46,7 @@ pub fn stop_label(reason: StopReason) -> &'static str {
         StopReason::Complete => "complete",
         StopReason::NoReachableFrontier => "no_reachable_frontier",
         StopReason::ScanLimit => "scan_limit",
+        StopReason::NoCpsMove => "no_cps_move",
     }
 }
 
@@ -69,6 +70,12 @@ pub struct SummaryRecord<'a> {
     pub stop_reason: StopReason,
     /// Seed of every random choice.
     pub seed: u64,
+    /// CPS cycles run (0 without children).
+    pub cps_cycles: usize,
+    /// Moves that needed subgoals.
+    pub subgoal_retrievals: usize,
+    /// Each child's driven distance, metres.
+    pub child_travel_m: &'a [f64],
     /// Wall-clock time of the simulation, milliseconds (the only field that varies
     /// between identical runs).
     pub wall_ms: f64,
@@ -188,6 +195,9 @@ pub fn write_episode_outputs(
         parent_travel_m: s.parent_travel_m,
         stop_reason: s.stop_reason,
         seed: s.seed,
+        cps_cycles: s.cps_cycles,
+        subgoal_retrievals: s.subgoal_retrievals,
+        child_travel_m: &s.child_travel_m,
         wall_ms: (wall_ms * 1000.0).round() / 1000.0,
         start: episode.start,
         resolution: g.resolution,

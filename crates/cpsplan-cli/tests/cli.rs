@@ -91,6 +91,40 @@ fn explore_builtin_site_writes_every_output() {
 }
 
 #[test]
+fn children_run_cps_cycles() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("cps");
+    cpsplan()
+        .args([
+            "explore",
+            "--builtin",
+            "tunnel",
+            "--children",
+            "2",
+            "--max-scans",
+            "6",
+            "--quiet",
+            "--out",
+        ])
+        .arg(&out)
+        .assert()
+        .success();
+    let s = summary(&out);
+    let scans = s["scans"].as_u64().unwrap();
+    assert!(s["cps_cycles"].as_u64().unwrap() + 1 >= scans, "{s}");
+    let child_travel = s["child_travel_m"].as_array().unwrap();
+    assert_eq!(child_travel.len(), 2);
+    assert!(child_travel.iter().all(|t| t.as_f64().unwrap() >= 0.0));
+    let ep: Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("episode.json")).unwrap()).unwrap();
+    let cycle = &ep["steps"][0]["move"]["cycles"][0];
+    for key in ["parent_from", "parent_to", "parent_path", "children"] {
+        assert!(cycle.get(key).is_some(), "cycle lacks {key}");
+    }
+    assert_eq!(cycle["children"].as_array().unwrap().len(), 2);
+}
+
+#[test]
 fn same_seed_gives_identical_episode_records() {
     let tmp = tempfile::tempdir().unwrap();
     let run = |name: &str| {

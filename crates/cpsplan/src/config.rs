@@ -99,6 +99,45 @@ impl Default for ParentConfig {
     }
 }
 
+/// The child robots and the CPS links (sections IV-B and V; Table I).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct ChildrenConfig {
+    /// Number of children (the paper's simulations used two, CPS-VIII four). 0, the
+    /// default for now, lets the parent move alone; with children every move runs
+    /// as CPS cycles (this integration is new and slower: about 0.2 s a step).
+    pub count: usize,
+    /// Radius of each child, metres.
+    pub radius: f64,
+    /// αc of Eq. (2): weight of the angle term.
+    pub alpha_c: f64,
+    /// βc of Eq. (2): weight of the distance term.
+    pub beta_c: f64,
+    /// θt of Eq. (2) in degrees (paper: 90°).
+    pub theta_t_deg: f64,
+    /// Dt of Eq. (2) in metres (paper: 3 m).
+    pub d_t: f64,
+    /// Shortest parent–child link, metres (Table I: 1.3 m).
+    pub min_range: f64,
+    /// Longest parent–child link, metres; `None` means the scanner range.
+    pub max_range: Option<f64>,
+}
+
+impl Default for ChildrenConfig {
+    fn default() -> Self {
+        Self {
+            count: 0,
+            radius: 0.25,
+            alpha_c: 1.0,
+            beta_c: 1.0,
+            theta_t_deg: 90.0,
+            d_t: 3.0,
+            min_range: 1.3,
+            max_range: None,
+        }
+    }
+}
+
 /// The mission loop.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
@@ -127,6 +166,8 @@ pub struct Config {
     pub robot: RobotConfig,
     /// Parent planner parameters.
     pub parent: ParentConfig,
+    /// Children and CPS links.
+    pub children: ChildrenConfig,
     /// Mission loop parameters.
     pub mission: MissionConfig,
 }
@@ -139,6 +180,7 @@ impl Default for Config {
             scanner: ScannerConfig::default(),
             robot: RobotConfig::default(),
             parent: ParentConfig::default(),
+            children: ChildrenConfig::default(),
             mission: MissionConfig::default(),
         }
     }
@@ -206,6 +248,15 @@ impl Config {
         at_least_one("parent.min_gain_cells", self.parent.min_gain_cells)?;
         at_least_one("parent.min_frontier_cells", self.parent.min_frontier_cells)?;
         at_least_one("mission.max_scans", self.mission.max_scans)?;
+        non_negative("children.radius", self.children.radius)?;
+        non_negative("children.alpha_c", self.children.alpha_c)?;
+        non_negative("children.beta_c", self.children.beta_c)?;
+        non_negative("children.theta_t_deg", self.children.theta_t_deg)?;
+        non_negative("children.d_t", self.children.d_t)?;
+        non_negative("children.min_range", self.children.min_range)?;
+        if let Some(m) = self.children.max_range {
+            positive("children.max_range", m)?;
+        }
         if self.parent.band_width <= self.robot.radius {
             return Err(ConfigError {
                 field: "parent.band_width",

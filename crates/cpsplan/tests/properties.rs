@@ -196,3 +196,50 @@ fn visible_in_quadrant(k: &OccupancyGrid, at: Cell, dx: i64, dy: i64, r2: i64) -
     }
     (true, tie)
 }
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 12, ..ProptestConfig::default() })]
+
+    /// With children, every CPS cycle keeps each child in certain line of sight of
+    /// both parent positions, within the link's range limits, on the knowledge map
+    /// and on the ground truth; every robot's path stays on free cells.
+    #[test]
+    fn cps_cycles_keep_their_links(truth in map_strategy(), pick in 0usize..10_000, seed in 0u64..1000) {
+        use cpsplan::planning::and_region::{certain_view, LinkRange};
+        let free = free_cells(&truth);
+        prop_assume!(!free.is_empty());
+        let g = *truth.geometry();
+        let start = g.cell_center(free[pick % free.len()]);
+        let mut config = small_config(seed);
+        config.scanner.range = 4.0;
+        config.children.count = 2;
+        config.mission.max_scans = 20;
+        let episode = run_episode(&truth, start, &config, |_| {}).unwrap();
+        let k = episode.knowledge.as_ref().unwrap();
+        let link = LinkRange { min: config.children.min_range, max: config.scanner.range };
+        let cell = |p: Point| g.world_to_cell(p).unwrap();
+        // Every move between two scans ran as at least one CPS cycle.
+        prop_assert!(episode.summary.cps_cycles + 1 >= episode.summary.scans);
+        for step in &episode.steps {
+            for cycle in &step.movement.cycles {
+                let (from, to) = (cell(cycle.parent_from), cell(cycle.parent_to));
+                for child in &cycle.children {
+                    let c = cell(child.to);
+                    for grid in [k, &truth] {
+                        let view = certain_view(grid, c, link);
+                        prop_assert!(view[g.index(from)] && view[g.index(to)],
+                            "child at {:?} does not see {:?} and {:?}", c, from, to);
+                    }
+                    for leg in child.path.windows(2) {
+                        prop_assert!(segment_clear(&g, cell(leg[0]), cell(leg[1]),
+                            |i| k.cells()[i] == CellState::Free));
+                    }
+                }
+                for leg in cycle.parent_path.windows(2) {
+                    prop_assert!(segment_clear(&g, cell(leg[0]), cell(leg[1]),
+                        |i| k.cells()[i] == CellState::Free));
+                }
+            }
+        }
+    }
+}

@@ -26,7 +26,51 @@ impl Legs {
     }
 }
 
-/// Every step but the last moved the parent along its plan's path to the next scan
+/// The children's driven paths, thin, one colour per child, under the parent's.
+fn draw_children(canvas: &mut Canvas, layout: &MapLayout, episode: &Episode) {
+    let colours = super::palette::CHILDREN;
+    for (n, colour) in (0..episode.config.children.count).zip(colours.iter().cycle()) {
+        let mut pb = PathBuilder::new();
+        let mut any = false;
+        for cycle in episode.steps.iter().flat_map(|s| &s.movement.cycles) {
+            let Some(child) = cycle.children.get(n) else {
+                continue;
+            };
+            let pts: Vec<(f32, f32)> = child
+                .path
+                .iter()
+                .map(|&p| layout.world_to_px(p))
+                .filter(|p| p.0.is_finite() && p.1.is_finite())
+                .collect();
+            if let Some((first, rest)) = pts.split_first() {
+                pb.move_to(first.0, first.1);
+                for p in rest {
+                    pb.line_to(p.0, p.1);
+                }
+                any |= !rest.is_empty();
+            }
+        }
+        if let (true, Some(path)) = (any, pb.finish()) {
+            canvas.stroke_path(&path, *colour, 220, 1.5);
+        }
+    }
+}
+
+/// The path the parent drove after a step: its CPS cycles' paths when it moved by
+/// cycles, else the plan's path.
+fn driven_path(step: &cpsplan::mission::Step) -> Vec<Point> {
+    if step.movement.cycles.is_empty() {
+        step.plan.path.clone()
+    } else {
+        step.movement
+            .cycles
+            .iter()
+            .flat_map(|c| c.parent_path.iter().copied())
+            .collect()
+    }
+}
+
+/// Every step but the last moved the parent along its driven path to the next scan
 /// position; a step without a usable path is drawn as a straight move.
 fn legs(layout: &MapLayout, episode: &Episode) -> Legs {
     let steps = &episode.steps;
@@ -39,9 +83,7 @@ fn legs(layout: &MapLayout, episode: &Episode) -> Legs {
     for pair in steps.windows(2) {
         let start = legs.points.len();
         legs.points.extend(
-            pair[0]
-                .plan
-                .path
+            driven_path(&pair[0])
                 .iter()
                 .map(|&p| layout.world_to_px(p))
                 .filter(finite),
@@ -69,6 +111,7 @@ pub(crate) fn draw_overlay(
     episode: &Episode,
 ) {
     let legs = legs(layout, episode);
+    draw_children(canvas, layout, episode);
     draw_trajectory(canvas, style, &legs);
 
     let positions: Vec<Point> = if episode.steps.is_empty() {

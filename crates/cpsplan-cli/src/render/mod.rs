@@ -84,6 +84,13 @@ pub(crate) mod palette {
     pub const OUT_OF_REACH: Rgb = Rgb::hex(0xd8c6ea);
     /// The parent's path.
     pub const TRAJECTORY: Rgb = Rgb::hex(0x1f77b4);
+    /// The children's paths, child 1 first (repeats for more children).
+    pub const CHILDREN: [Rgb; 4] = [
+        Rgb::hex(0x9467bd),
+        Rgb::hex(0x17becf),
+        Rgb::hex(0x8c564b),
+        Rgb::hex(0xe377c2),
+    ];
     /// Scan positions.
     pub const SCAN: Rgb = Rgb::hex(0xff7f0e);
     /// The first scan (the start).
@@ -449,11 +456,19 @@ fn draw_episode(
             label: "out of reach",
         });
     }
+    const CHILD_LABELS: [&str; 4] = ["child 1", "child 2", "child 3", "child 4"];
+    let children = episode.config.children.count.min(4);
+    legend.extend([LegendItem {
+        swatch: Swatch::Line(palette::TRAJECTORY),
+        label: if children > 0 { "parent" } else { "trajectory" },
+    }]);
+    for (i, label) in CHILD_LABELS.iter().enumerate().take(children) {
+        legend.push(LegendItem {
+            swatch: Swatch::Line(palette::CHILDREN[i]),
+            label,
+        });
+    }
     legend.extend([
-        LegendItem {
-            swatch: Swatch::Line(palette::TRAJECTORY),
-            label: "trajectory",
-        },
         LegendItem {
             swatch: Swatch::Dot(palette::SCAN),
             label: "scan",
@@ -506,6 +521,7 @@ fn summary_line(episode: &Episode) -> String {
         StopReason::Complete => "complete",
         StopReason::NoReachableFrontier => "no reachable frontier",
         StopReason::ScanLimit => "scan limit",
+        StopReason::NoCpsMove => "no CPS move",
     };
     format!(
         "{} scan{} \u{b7} coverage {:.1} % \u{b7} walls {:.1} % \u{b7} parent travel {:.1} m \

@@ -5,6 +5,10 @@
 //! In this version the parent moves alone; the CPS cycle with the children
 //! (paper Fig. 1) will run inside the move of each step.
 
+mod cps;
+
+pub use cps::{ChildMove, CycleRecord, MoveRecord, RejectedTarget};
+
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use serde::{Deserialize, Serialize};
@@ -58,6 +62,9 @@ pub enum StopReason {
     NoReachableFrontier,
     /// `mission.max_scans` was reached.
     ScanLimit,
+    /// Targets remain, but none can be reached by CPS cycles (no usable AND region
+    /// even with subgoals).
+    NoCpsMove,
 }
 
 /// One scan and the planning round that followed it.
@@ -79,6 +86,12 @@ pub struct Step {
     pub parent_travel_m: f64,
     /// The planning round after the scan.
     pub plan: ParentPlan,
+    /// The children's cells during the scan.
+    pub children: Vec<Point>,
+    /// The move that followed: CPS cycles to the target (empty without children or
+    /// when the mission stopped here).
+    #[serde(rename = "move")]
+    pub movement: MoveRecord,
 }
 
 /// Totals of an episode.
@@ -98,6 +111,12 @@ pub struct Summary {
     pub stop_reason: StopReason,
     /// The seed of every random choice.
     pub seed: u64,
+    /// CPS cycles run.
+    pub cps_cycles: usize,
+    /// Moves that needed subgoals (section IV-C).
+    pub subgoal_retrievals: usize,
+    /// Total length of each child's driven paths, metres.
+    pub child_travel_m: Vec<f64>,
 }
 
 /// A whole simulated episode.
@@ -150,12 +169,39 @@ pub fn run_episode(
     let mut rng = ChaCha8Rng::seed_from_u64(config.seed);
     let mut here = cell;
     let mut travel = 0.0;
+    let mut children: Vec<Cell> = Vec::new();
+    let mut child_travel = vec![0.0; config.children.count];
+    let (mut cycles, mut retrievals) = (0usize, 0usize);
     let mut steps: Vec<Step> = Vec::new();
     let stop_reason = loop {
         let outcome = scan(&truth, &mut knowledge, here, config.range_cells(), |i| {
             tracker.note_seen(i)
         });
+        if steps.is_empty() && config.children.count > 0 {
+            children = cps::initial_children(&knowledge, here, config);
+        }
         let plan = plan_parent(&knowledge, here, config, &mut rng);
+        let at_limit = steps.len() + 1 >= config.mission.max_scans;
+        let (movement, moved) = match plan.decision {
+            Decision::Target { index } if !at_limit => {
+                if config.children.count == 0 {
+                    let record = MoveRecord {
+                        target: Some(index),
+                        ..MoveRecord::default()
+                    };
+                    let moved = cps::Moved {
+                        parent: plan.candidates[index].cell,
+                        children: Vec::new(),
+                        parent_length: plan.path_length_m,
+                        child_lengths: Vec::new(),
+                    };
+                    (record, Some(moved))
+                } else {
+                    cps::execute_move(&knowledge, here, &children, &plan, config)
+                }
+            }
+            _ => (MoveRecord::default(), None),
+        };
         let step = Step {
             scan: steps.len() + 1,
             position: g.cell_center(here),
@@ -164,26 +210,29 @@ pub fn run_episode(
             coverage: tracker.coverage(),
             wall_coverage: tracker.wall_coverage(),
             parent_travel_m: travel,
+            children: children.iter().map(|&c| g.cell_center(c)).collect(),
             plan,
+            movement,
         };
         on_step(&step);
         let decision = step.plan.decision;
-        let next = step
-            .plan
-            .target()
-            .map(|t| (t.cell, step.plan.path_length_m));
+        cycles += step.movement.cycles.len();
+        retrievals += usize::from(step.movement.subgoal_retrieval);
         steps.push(step);
-        match (decision, next) {
+        match (decision, moved) {
             (Decision::Complete, _) => break StopReason::Complete,
-            (Decision::NoReachableFrontier, _) | (_, None) => {
-                break StopReason::NoReachableFrontier
-            }
-            (Decision::Target { .. }, Some((target, length))) => {
-                if steps.len() >= config.mission.max_scans {
-                    break StopReason::ScanLimit;
+            (Decision::NoReachableFrontier, _) => break StopReason::NoReachableFrontier,
+            (Decision::Target { .. }, _) if at_limit => break StopReason::ScanLimit,
+            (Decision::Target { .. }, None) => break StopReason::NoCpsMove,
+            (Decision::Target { .. }, Some(moved)) => {
+                here = moved.parent;
+                travel += moved.parent_length;
+                if !moved.children.is_empty() {
+                    children = moved.children;
                 }
-                here = target;
-                travel += length;
+                for (t, l) in child_travel.iter_mut().zip(moved.child_lengths) {
+                    *t += l;
+                }
             }
         }
     };
@@ -195,6 +244,9 @@ pub fn run_episode(
         parent_travel_m: travel,
         stop_reason,
         seed: config.seed,
+        cps_cycles: cycles,
+        subgoal_retrievals: retrievals,
+        child_travel_m: child_travel,
     };
     Ok(Episode {
         config: *config,

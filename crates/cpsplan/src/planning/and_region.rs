@@ -75,40 +75,45 @@ pub fn mutual_view(
     b
 }
 
-/// One child's AND region and its travel distances.
+/// One child's AND region.
 #[derive(Debug, Clone)]
 pub struct AndRegion {
     /// Per cell: the child may stand here for the cycle.
     pub cells: Vec<bool>,
     /// Number of cells in the region.
     pub size: usize,
-    /// Travel distances of the child from its current position.
-    pub travel: DistanceField,
-    /// Drivable cells of the child.
-    pub trav: Traversability,
 }
 
-/// The AND region of a child of `radius` metres at `child`, given the cells that
-/// both parent positions see (`mutual`, from [`mutual_view`]).
-pub fn and_region(
-    knowledge: &OccupancyGrid,
-    mutual: &[bool],
-    child: Cell,
-    radius: f64,
-) -> AndRegion {
-    let g = knowledge.geometry();
-    let trav = Traversability::new(knowledge, radius, child);
-    let travel = sweep(g, &trav.passable, &[g.index(child)], UNREACHED);
-    let cells: Vec<bool> = (0..g.len())
-        .map(|i| mutual[i] && trav.traversable[i] && travel.reached(i))
+/// Where a child can drive: its drivable cells and travel distances from where it
+/// stands. Independent of the parent, so computed once per child position.
+#[derive(Debug, Clone)]
+pub struct ChildReach {
+    /// Drivable cells of the child.
+    pub trav: Traversability,
+    /// Travel distances of the child from its current position.
+    pub travel: DistanceField,
+}
+
+impl ChildReach {
+    /// The reach of a child of `radius` metres at `child`.
+    pub fn new(knowledge: &OccupancyGrid, child: Cell, radius: f64) -> Self {
+        let g = knowledge.geometry();
+        let trav = Traversability::new(knowledge, radius, child);
+        let travel = sweep(g, &trav.passable, &[g.index(child)], UNREACHED);
+        Self { trav, travel }
+    }
+}
+
+/// The AND region of a child with reach `reach`, given the cells that both parent
+/// positions see (`mutual`, from [`mutual_view`]).
+pub fn and_region(mutual: &[bool], reach: &ChildReach) -> AndRegion {
+    let cells: Vec<bool> = mutual
+        .iter()
+        .enumerate()
+        .map(|(i, &m)| m && reach.trav.traversable[i] && reach.travel.reached(i))
         .collect();
     let size = cells.iter().filter(|&&c| c).count();
-    AndRegion {
-        cells,
-        size,
-        travel,
-        trav,
-    }
+    AndRegion { cells, size }
 }
 
 #[cfg(test)]
@@ -157,7 +162,7 @@ mod tests {
         let from = Cell::new(20, 15);
         let to = Cell::new(105, 100);
         let mutual = mutual_view(&k, from, to, RANGE);
-        let region = and_region(&k, &mutual, Cell::new(30, 15), 0.25);
+        let region = and_region(&mutual, &ChildReach::new(&k, Cell::new(30, 15), 0.25));
         assert!(region.size > 0);
         for i in (0..g.len()).filter(|&i| region.cells[i]) {
             let c = g.cell(i);
@@ -175,9 +180,9 @@ mod tests {
         // A wall cuts the child off from the corner.
         k.fill_rect(60, 5, 62, 25, CellState::Occupied);
         let mutual = mutual_view(&k, Cell::new(105, 15), Cell::new(105, 100), RANGE);
-        let blocked = and_region(&k, &mutual, Cell::new(30, 15), 0.25);
+        let blocked = and_region(&mutual, &ChildReach::new(&k, Cell::new(30, 15), 0.25));
         assert_eq!(blocked.size, 0);
-        let open = and_region(&k, &mutual, Cell::new(100, 40), 0.25);
+        let open = and_region(&mutual, &ChildReach::new(&k, Cell::new(100, 40), 0.25));
         assert!(open.size > 0);
     }
 }

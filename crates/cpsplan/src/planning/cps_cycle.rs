@@ -10,9 +10,9 @@
 
 use thiserror::Error;
 
-use super::and_region::{and_region, mutual_view, LinkRange};
+use super::and_region::{and_region, mutual_view, ChildReach, LinkRange};
 use super::children::{place_children, Eq2, Placement, Spot};
-use super::voronoi::{gvd, voronoi_path};
+use super::voronoi::{gvd, voronoi_path, Gvd};
 use crate::geom::Cell;
 use crate::world::OccupancyGrid;
 
@@ -70,7 +70,7 @@ pub enum CycleError {
 }
 
 /// Plans the cycle that takes the parent from `parent_from` to `parent_to` with the
-/// children now at `children`.
+/// children now at `children`, including the children's Voronoi paths.
 pub fn plan_cycle(
     knowledge: &OccupancyGrid,
     parent_from: Cell,
@@ -78,12 +78,31 @@ pub fn plan_cycle(
     children: &[Cell],
     params: &CycleParams,
 ) -> Result<CpsCycle, CycleError> {
+    let reach: Vec<ChildReach> = children
+        .iter()
+        .map(|&c| ChildReach::new(knowledge, c, params.child_radius))
+        .collect();
+    let mut cycle = place_cycle(knowledge, parent_from, parent_to, children, &reach, params)?;
+    let trav = crate::planning::Traversability::new(knowledge, params.child_radius, parent_from);
+    let diagram = gvd(knowledge, &trav);
+    drive_children(knowledge, &mut cycle, params.child_radius, &diagram)?;
+    Ok(cycle)
+}
+
+/// The children's places for the cycle from `parent_from` to `parent_to` (paths
+/// not yet planned: each moving child's path is just its two ends); `reach[i]` is
+/// child `i`'s [`ChildReach`].
+pub fn place_cycle(
+    knowledge: &OccupancyGrid,
+    parent_from: Cell,
+    parent_to: Cell,
+    children: &[Cell],
+    reach: &[ChildReach],
+    params: &CycleParams,
+) -> Result<CpsCycle, CycleError> {
     let g = *knowledge.geometry();
     let mutual = mutual_view(knowledge, parent_from, parent_to, params.link);
-    let regions: Vec<_> = children
-        .iter()
-        .map(|&c| and_region(knowledge, &mutual, c, params.child_radius))
-        .collect();
+    let regions: Vec<_> = reach.iter().map(|r| and_region(&mutual, r)).collect();
     let stays: Vec<bool> = children
         .iter()
         .zip(&regions)
@@ -97,6 +116,7 @@ pub fn plan_cycle(
         .iter()
         .map(|&i| {
             let r = &regions[i];
+            let trav = &reach[i].trav;
             (0..g.len())
                 .filter(|&j| r.cells[j])
                 .filter(|&j| {
@@ -112,7 +132,7 @@ pub fn plan_cycle(
                 })
                 .map(|j| Spot {
                     cell: g.cell(j),
-                    clearance: r.trav.clearance_at(j) as f64,
+                    clearance: trav.clearance_at(j) as f64,
                 })
                 .collect()
         })
@@ -134,17 +154,13 @@ pub fn plan_cycle(
         let Some(p) = placed[k] else {
             return Err(CycleError::NoJointPlacement);
         };
-        let r = &regions[i];
-        let diagram = gvd(knowledge, &r.trav);
-        let path = voronoi_path(knowledge, &r.trav, &diagram, children[i], p.cell)
-            .ok_or(CycleError::NoJointPlacement)?;
         out[i] = CycleChild {
             from: children[i],
             to: p.cell,
             stays: false,
-            path,
+            path: vec![children[i], p.cell],
             placement: Some(p),
-            and_region_cells: r.size,
+            and_region_cells: regions[i].size,
         };
     }
     Ok(CpsCycle {
@@ -152,6 +168,22 @@ pub fn plan_cycle(
         parent_to,
         children: out,
     })
+}
+
+/// Plans every moving child's path along the Voronoi edges of `diagram` (the GVD
+/// of `knowledge` for robots of `radius`).
+pub fn drive_children(
+    knowledge: &OccupancyGrid,
+    cycle: &mut CpsCycle,
+    radius: f64,
+    diagram: &Gvd,
+) -> Result<(), CycleError> {
+    for child in cycle.children.iter_mut().filter(|c| !c.stays) {
+        let trav = crate::planning::Traversability::new(knowledge, radius, child.from);
+        child.path = voronoi_path(knowledge, &trav, diagram, child.from, child.to)
+            .ok_or(CycleError::NoJointPlacement)?;
+    }
+    Ok(())
 }
 
 #[cfg(test)]

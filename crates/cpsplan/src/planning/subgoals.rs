@@ -18,8 +18,10 @@
 
 use thiserror::Error;
 
-use super::cps_cycle::{plan_cycle, CpsCycle, CycleError, CycleParams};
+use super::and_region::ChildReach;
+use super::cps_cycle::{drive_children, place_cycle, CpsCycle, CycleError, CycleParams};
 use super::visgraph::VisibilityGraph;
+use super::voronoi::gvd;
 use super::Traversability;
 use crate::geom::Cell;
 use crate::world::OccupancyGrid;
@@ -57,14 +59,24 @@ pub fn plan_move(
     parent_radius: f64,
     params: &CycleParams,
 ) -> Result<MovePlan, MoveError> {
-    // Step 1.
-    match plan_cycle(knowledge, from, to, children, params) {
-        Ok(cycle) => {
-            return Ok(MovePlan {
-                cycles: vec![cycle],
-                retrieved: false,
-            })
+    let child_trav = Traversability::new(knowledge, params.child_radius, from);
+    let diagram = gvd(knowledge, &child_trav);
+    let drive = |mut cycles: Vec<CpsCycle>, retrieved: bool| -> Result<MovePlan, MoveError> {
+        for c in &mut cycles {
+            drive_children(knowledge, c, params.child_radius, &diagram)
+                .map_err(|_| MoveError::Stuck { at: c.parent_from })?;
         }
+        Ok(MovePlan { cycles, retrieved })
+    };
+    let reach_of = |kids: &[Cell]| -> Vec<ChildReach> {
+        kids.iter()
+            .map(|&c| ChildReach::new(knowledge, c, params.child_radius))
+            .collect()
+    };
+    let mut reach = reach_of(children);
+    // Step 1.
+    match place_cycle(knowledge, from, to, children, &reach, params) {
+        Ok(cycle) => return drive(vec![cycle], false),
         Err(CycleError::NoAndRegion { .. } | CycleError::NoJointPlacement) => {}
     }
     // Step 2.
@@ -79,7 +91,7 @@ pub fn plan_move(
     let mut kids: Vec<Cell> = children.to_vec();
     while here + 1 < path.len() {
         let next = (here + 1..path.len()).rev().find_map(|j| {
-            plan_cycle(knowledge, path[here], path[j], &kids, params)
+            place_cycle(knowledge, path[here], path[j], &kids, &reach, params)
                 .ok()
                 .map(|c| (j, c))
         });
@@ -87,13 +99,11 @@ pub fn plan_move(
             return Err(MoveError::Stuck { at: path[here] });
         };
         kids = cycle.children.iter().map(|c| c.to).collect();
+        reach = reach_of(&kids);
         cycles.push(cycle);
         here = j;
     }
-    Ok(MovePlan {
-        cycles,
-        retrieved: true,
-    })
+    drive(cycles, true)
 }
 
 #[cfg(test)]

@@ -1,0 +1,255 @@
+//! The CPS part of a mission step: the children's starting places, and the parent's
+//! move to its target as CPS cycles (paper Fig. 1), with subgoals when needed
+//! (section IV-C) and the next candidate when even that fails.
+
+use serde::{Deserialize, Serialize};
+
+use crate::config::Config;
+use crate::geom::{polyline_length, Cell, Point};
+use crate::planning::and_region::LinkRange;
+use crate::planning::children::Eq2;
+use crate::planning::cps_cycle::{CpsCycle, CycleParams};
+use crate::planning::path::to_world;
+use crate::planning::reach::{sweep, UNREACHED};
+use crate::planning::subgoals::{plan_move, MoveError};
+use crate::planning::voronoi::{gvd, voronoi_path, Gvd};
+use crate::planning::{ParentPlan, Traversability};
+use crate::world::OccupancyGrid;
+
+/// One child during one CPS cycle.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ChildMove {
+    /// Where it stood before the cycle, world frame.
+    pub from: Point,
+    /// Where it stands while the parent moves.
+    pub to: Point,
+    /// It was already in its AND region and stayed.
+    pub stays: bool,
+    /// Its driven path, world frame.
+    pub path: Vec<Point>,
+    /// Size of its AND region, cells.
+    pub and_region_cells: usize,
+    /// Eq. (2): clearance `1/P` of its spot, metres (when it moved).
+    pub clearance_m: Option<f64>,
+    /// Eq. (2): distance `D` to the parent's target, metres (when it moved).
+    pub distance_m: Option<f64>,
+    /// Eq. (2): angle `θ` to its partner seen from the target, degrees.
+    pub theta_deg: Option<f64>,
+}
+
+/// One CPS cycle as executed.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct CycleRecord {
+    /// The parent's position while the children move, world frame.
+    pub parent_from: Point,
+    /// The parent's position after its move, world frame.
+    pub parent_to: Point,
+    /// The parent's driven path, world frame.
+    pub parent_path: Vec<Point>,
+    /// Every child, in order.
+    pub children: Vec<ChildMove>,
+}
+
+/// A target the parent could not reach by CPS cycles.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct RejectedTarget {
+    /// Index into the step's candidates.
+    pub candidate: usize,
+    /// Why.
+    pub reason: String,
+}
+
+/// The executed move of one step.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, Default)]
+pub struct MoveRecord {
+    /// The candidate actually reached.
+    pub target: Option<usize>,
+    /// Whether subgoals were retrieved.
+    pub subgoal_retrieval: bool,
+    /// The cycles in order.
+    pub cycles: Vec<CycleRecord>,
+    /// Candidates tried first and given up.
+    pub rejected: Vec<RejectedTarget>,
+}
+
+/// The cycle parameters of a configuration.
+pub fn cycle_params(config: &Config) -> CycleParams {
+    let c = &config.children;
+    CycleParams {
+        child_radius: c.radius,
+        link: LinkRange {
+            min: c.min_range,
+            max: c.max_range.unwrap_or(config.scanner.range),
+        },
+        eq2: Eq2 {
+            alpha_c: c.alpha_c,
+            beta_c: c.beta_c,
+            theta_t: c.theta_t_deg.to_radians(),
+            d_t: c.d_t,
+            clearance_cap: config.scanner.range,
+        },
+    }
+}
+
+/// Starting places of the children after the first scan: the drivable cells
+/// nearest (by travel) to the parent that are at least the minimum link range from
+/// it and two radii plus a cell from each other; the parent's own cell if there is
+/// no room.
+pub fn initial_children(knowledge: &OccupancyGrid, parent: Cell, config: &Config) -> Vec<Cell> {
+    let g = knowledge.geometry();
+    let c = &config.children;
+    let trav = Traversability::new(knowledge, c.radius, parent);
+    let field = sweep(g, &trav.passable, &[g.index(parent)], UNREACHED);
+    let mut order: Vec<usize> = (0..g.len())
+        .filter(|&i| trav.traversable[i] && field.reached(i))
+        .collect();
+    order.sort_unstable_by_key(|&i| (field.cost[i], i));
+    let res = g.resolution;
+    let dist = |a: Cell, b: Cell| (a.x as f64 - b.x as f64).hypot(a.y as f64 - b.y as f64) * res;
+    let mut out: Vec<Cell> = Vec::with_capacity(c.count);
+    for i in order {
+        if out.len() == c.count {
+            break;
+        }
+        let cell = g.cell(i);
+        if dist(cell, parent) >= c.min_range + 0.2
+            && out.iter().all(|&o| dist(o, cell) >= 2.0 * c.radius + res)
+        {
+            out.push(cell);
+        }
+    }
+    while out.len() < c.count {
+        out.push(parent);
+    }
+    out
+}
+
+/// Where a move left the robots and how far they drove.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Moved {
+    /// The parent's new cell.
+    pub parent: Cell,
+    /// The children's new cells.
+    pub children: Vec<Cell>,
+    /// The parent's driven length, metres.
+    pub parent_length: f64,
+    /// Each child's driven length, metres.
+    pub child_lengths: Vec<f64>,
+}
+
+/// Moves the parent from `here` to the best reachable candidate of `plan` by CPS
+/// cycles, trying the eligible candidates in decreasing `G`. Returns the record and
+/// where the robots ended up; `None` when no candidate can be reached.
+pub fn execute_move(
+    knowledge: &OccupancyGrid,
+    here: Cell,
+    children: &[Cell],
+    plan: &ParentPlan,
+    config: &Config,
+) -> (MoveRecord, Option<Moved>) {
+    let params = cycle_params(config);
+    let mut order: Vec<usize> = (0..plan.candidates.len())
+        .filter(|&i| plan.candidates[i].eligible)
+        .collect();
+    order.sort_by(|&a, &b| {
+        plan.candidates[b]
+            .g
+            .total_cmp(&plan.candidates[a].g)
+            .then(a.cmp(&b))
+    });
+    let mut record = MoveRecord::default();
+    for index in order {
+        let target = plan.candidates[index].cell;
+        match plan_move(
+            knowledge,
+            here,
+            target,
+            children,
+            config.robot.radius,
+            &params,
+        ) {
+            Ok(m) => {
+                record.target = Some(index);
+                record.subgoal_retrieval = m.retrieved;
+                let mut parent_len = 0.0;
+                let mut child_len = vec![0.0; children.len()];
+                let diagram = gvd(
+                    knowledge,
+                    &Traversability::new(knowledge, config.robot.radius, here),
+                );
+                for cycle in &m.cycles {
+                    let (rec, plen) = cycle_record(knowledge, cycle, config, &diagram);
+                    parent_len += plen;
+                    for (l, c) in child_len.iter_mut().zip(&rec.children) {
+                        *l += polyline_length(&c.path);
+                    }
+                    record.cycles.push(rec);
+                }
+                let kids = m
+                    .cycles
+                    .last()
+                    .map(|c| c.children.iter().map(|k| k.to).collect())
+                    .unwrap_or_else(|| children.to_vec());
+                let moved = Moved {
+                    parent: target,
+                    children: kids,
+                    parent_length: parent_len,
+                    child_lengths: child_len,
+                };
+                return (record, Some(moved));
+            }
+            Err(e) => record.rejected.push(RejectedTarget {
+                candidate: index,
+                reason: match e {
+                    MoveError::NoPath => "no Visibility Graph path".into(),
+                    MoveError::Stuck { .. } => e.to_string(),
+                },
+            }),
+        }
+    }
+    (record, None)
+}
+
+/// The record of a cycle with the parent's Voronoi path, and that path's length.
+fn cycle_record(
+    knowledge: &OccupancyGrid,
+    cycle: &CpsCycle,
+    config: &Config,
+    diagram: &Gvd,
+) -> (CycleRecord, f64) {
+    let g = knowledge.geometry();
+    let trav = Traversability::new(knowledge, config.robot.radius, cycle.parent_from);
+    let cells = voronoi_path(
+        knowledge,
+        &trav,
+        diagram,
+        cycle.parent_from,
+        cycle.parent_to,
+    )
+    .unwrap_or_else(|| vec![cycle.parent_from, cycle.parent_to]);
+    let parent_path = to_world(g, &cells);
+    let length = polyline_length(&parent_path);
+    let children = cycle
+        .children
+        .iter()
+        .map(|c| ChildMove {
+            from: g.cell_center(c.from),
+            to: g.cell_center(c.to),
+            stays: c.stays,
+            path: to_world(g, &c.path),
+            and_region_cells: c.and_region_cells,
+            clearance_m: c.placement.map(|p| p.clearance),
+            distance_m: c.placement.map(|p| p.distance),
+            theta_deg: c.placement.and_then(|p| p.theta).map(f64::to_degrees),
+        })
+        .collect();
+    (
+        CycleRecord {
+            parent_from: g.cell_center(cycle.parent_from),
+            parent_to: g.cell_center(cycle.parent_to),
+            parent_path,
+            children,
+        },
+        length,
+    )
+}
