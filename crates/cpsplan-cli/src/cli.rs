@@ -31,6 +31,32 @@ pub enum Command {
     Explore(ExploreArgs),
     /// List the built-in maps, or export them as ROS maps and previews.
     Maps(MapsArgs),
+    /// Plan one step for a real team on a partial map; prints the plan as JSON.
+    Plan(PlanArgs),
+}
+
+/// Options of `cpsplan plan`.
+#[derive(Debug, Args)]
+pub struct PlanArgs {
+    /// The partial knowledge map: a ROS map_server YAML (trinary: the unknown grey
+    /// is unknown), or a PNG/PGM image (at --resolution).
+    #[arg(long, value_name = "FILE")]
+    pub known: PathBuf,
+    /// The parent's position, world frame metres: X,Y.
+    #[arg(long, value_name = "X,Y", value_parser = parse_point, allow_hyphen_values = true)]
+    pub parent: Point,
+    /// A child's position, world frame metres: X,Y (once per child).
+    #[arg(long = "child", value_name = "X,Y", value_parser = parse_point, allow_hyphen_values = true, required = true)]
+    pub children: Vec<Point>,
+    /// TOML file with any parameters (see docs/USER-GUIDE.md).
+    #[arg(long, value_name = "FILE")]
+    pub config: Option<PathBuf>,
+    /// Planning resolution in metres per cell.
+    #[arg(long, value_name = "M", allow_hyphen_values = true)]
+    pub resolution: Option<f64>,
+    /// Seed of the planner's random choices.
+    #[arg(long, value_name = "N")]
+    pub seed: Option<u64>,
 }
 
 /// Options of `cpsplan explore`.
@@ -122,20 +148,47 @@ pub fn run() -> Result<()> {
     match Cli::parse().command {
         Command::Explore(args) => explore(&args),
         Command::Maps(args) => maps(&args),
+        Command::Plan(args) => plan(&args),
     }
 }
 
-/// Builds the run's configuration: defaults, then the TOML file, then flags.
-pub fn build_config(args: &ExploreArgs) -> Result<Config> {
-    let mut config = match &args.config {
+/// Reads a TOML configuration file, or the defaults.
+fn read_config(path: Option<&Path>) -> Result<Config> {
+    match path {
         Some(path) => {
             let text = std::fs::read_to_string(path)
                 .with_context(|| format!("cannot read config file {}", path.display()))?;
             toml::from_str::<Config>(&text)
-                .map_err(|e| anyhow::anyhow!("config file {}: {}", path.display(), e.message()))?
+                .map_err(|e| anyhow::anyhow!("config file {}: {}", path.display(), e.message()))
         }
-        None => Config::default(),
-    };
+        None => Ok(Config::default()),
+    }
+}
+
+fn plan(args: &PlanArgs) -> Result<()> {
+    let mut config = read_config(args.config.as_deref())?;
+    if let Some(r) = args.resolution {
+        config.resolution = r;
+    }
+    if let Some(s) = args.seed {
+        config.seed = s;
+    }
+    config.validate()?;
+    let grid = load_any(&args.known, config.resolution)?;
+    let known = resample_conservative(&grid, config.resolution);
+    let step = cpsplan::mission::plan_step(&known, args.parent, &args.children, &config)?;
+    let mut out = serde_json::to_string_pretty(&step)?;
+    out.push('\n');
+    use std::io::Write as _;
+    std::io::stdout()
+        .write_all(out.as_bytes())
+        .context("cannot write the plan")?;
+    Ok(())
+}
+
+/// Builds the run's configuration: defaults, then the TOML file, then flags.
+pub fn build_config(args: &ExploreArgs) -> Result<Config> {
+    let mut config = read_config(args.config.as_deref())?;
     if let Some(a) = args.alpha {
         config.parent.alpha = a;
     }

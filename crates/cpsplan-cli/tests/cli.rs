@@ -295,3 +295,86 @@ fn shared_campus_map_is_explored() {
     };
     explore_shared(&dir, "cit_tsudanuma_campus", 0.99);
 }
+
+/// `plan` on the map `explore` had after its first scan gives the same first cycle.
+#[test]
+fn plan_matches_the_first_cycle_of_explore() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("first");
+    cpsplan()
+        .args([
+            "explore",
+            "--builtin",
+            "office",
+            "--children",
+            "2",
+            "--max-scans",
+            "1",
+            "--quiet",
+            "--out",
+        ])
+        .arg(&out)
+        .assert()
+        .success();
+    let ep: Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("episode.json")).unwrap()).unwrap();
+    let step = &ep["steps"][0];
+    let xy = |p: &Value| format!("{},{}", p["x"].as_f64().unwrap(), p["y"].as_f64().unwrap());
+    let result = cpsplan()
+        .args(["plan", "--known"])
+        .arg(out.join("knowledge.yaml"))
+        .args(["--parent", &xy(&ep["start"])])
+        .args(["--child", &xy(&step["children"][0])])
+        .args(["--child", &xy(&step["children"][1])])
+        .output()
+        .unwrap();
+    assert!(
+        result.status.success(),
+        "{}",
+        String::from_utf8_lossy(&result.stderr)
+    );
+    let plan: Value = serde_json::from_slice(&result.stdout).unwrap();
+    assert_eq!(plan["plan"]["decision"], step["plan"]["decision"]);
+    assert_eq!(plan["move"]["target"], step["move"]["target"]);
+    let (a, b) = (&plan["move"]["cycles"][0], &step["move"]["cycles"][0]);
+    assert!(a.is_object(), "no cycle planned: {plan}");
+    assert_eq!(a, b);
+}
+
+#[test]
+fn plan_rejects_bad_robots_and_reports_nothing_to_scan() {
+    let tmp = tempfile::tempdir().unwrap();
+    // A fully known room: nothing left to scan.
+    let g = cpsplan::GridGeometry::new(60, 40, 0.1, cpsplan::Point::default());
+    let mut room = cpsplan::OccupancyGrid::filled(g, cpsplan::CellState::Occupied);
+    room.fill_rect(1, 1, 59, 39, cpsplan::CellState::Free);
+    let yaml = tmp.path().join("room.yaml");
+    cpsplan_cli::formats::rosmap::save_map(&room, &yaml).unwrap();
+    let run = |args: &[&str]| {
+        cpsplan()
+            .args(["plan", "--known"])
+            .arg(&yaml)
+            .args(args)
+            .output()
+            .unwrap()
+    };
+    let done = run(&["--parent", "3,2", "--child", "1,1", "--child", "5,3"]);
+    assert!(done.status.success());
+    let plan: Value = serde_json::from_slice(&done.stdout).unwrap();
+    assert_eq!(plan["plan"]["decision"]["kind"], "complete");
+    for (args, needle) in [
+        (vec!["--parent", "3,2"], "--child"),
+        (vec!["--parent", "3,2", "--child", "0.05,0.05"], "child 1"),
+        (
+            vec!["--parent", "30,2", "--child", "1,1"],
+            "outside the map",
+        ),
+        (vec!["--parent", "0.05,2", "--child", "1,1"], "parent"),
+    ] {
+        let r = run(&args);
+        assert_eq!(r.status.code(), Some(2), "{args:?}");
+        let err = String::from_utf8_lossy(&r.stderr);
+        assert!(err.contains(needle), "{args:?}: {err}");
+        assert!(!err.contains("panicked"));
+    }
+}
