@@ -6,7 +6,7 @@ use std::io::Write;
 use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result};
-use cpsplan::mission::{Episode, StopReason};
+use cpsplan::mission::{Episode, StopReason, Summary};
 use cpsplan::world::builtin::BuiltinMap;
 use cpsplan::{Config, OccupancyGrid, Point};
 use serde::Serialize;
@@ -55,27 +55,9 @@ pub fn stop_label(reason: StopReason) -> &'static str {
 pub struct SummaryRecord<'a> {
     /// Map label (`builtin:NAME` or the file path).
     pub map: String,
-    /// Number of scans.
-    pub scans: usize,
-    /// Known-Free share of the free cells the robot can reach from the start.
-    pub coverage: f64,
-    /// Seen share of the walls bordering that free space.
-    pub wall_coverage: f64,
-    /// Known-Free share of all free cells 4-connected to the start, including
-    /// space behind gaps narrower than the robot.
-    pub connected_coverage: f64,
-    /// Total length of the parent's driven paths, metres.
-    pub parent_travel_m: f64,
-    /// Why the episode ended.
-    pub stop_reason: StopReason,
-    /// Seed of every random choice.
-    pub seed: u64,
-    /// CPS cycles run (0 without children).
-    pub cps_cycles: usize,
-    /// Moves that needed subgoals.
-    pub subgoal_retrievals: usize,
-    /// Each child's driven distance, metres.
-    pub child_travel_m: &'a [f64],
+    /// The episode's totals (scans, coverage, travel, stop reason, seed, CPS counts).
+    #[serde(flatten)]
+    pub summary: &'a Summary,
     /// Wall-clock time of the simulation, milliseconds (the only field that varies
     /// between identical runs).
     pub wall_ms: f64,
@@ -188,16 +170,7 @@ pub fn write_episode_outputs(
     let s = &episode.summary;
     let summary = SummaryRecord {
         map: source.record(),
-        scans: s.scans,
-        coverage: s.coverage,
-        wall_coverage: s.wall_coverage,
-        connected_coverage: s.connected_coverage,
-        parent_travel_m: s.parent_travel_m,
-        stop_reason: s.stop_reason,
-        seed: s.seed,
-        cps_cycles: s.cps_cycles,
-        subgoal_retrievals: s.subgoal_retrievals,
-        child_travel_m: &s.child_travel_m,
+        summary: s,
         wall_ms: (wall_ms * 1000.0).round() / 1000.0,
         start: episode.start,
         resolution: g.resolution,

@@ -119,17 +119,7 @@ pub fn and_region(mutual: &[bool], reach: &ChildReach) -> AndRegion {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::geom::Point;
-    use crate::world::GridGeometry;
-
-    /// An L-shaped corridor: a horizontal arm and a vertical arm meeting at a corner.
-    fn l_corridor() -> OccupancyGrid {
-        let g = GridGeometry::new(120, 120, 0.1, Point::default());
-        let mut k = OccupancyGrid::filled(g, CellState::Occupied);
-        k.fill_rect(5, 5, 115, 25, CellState::Free); // horizontal arm, y 5..25
-        k.fill_rect(95, 5, 115, 115, CellState::Free); // vertical arm, x 95..115
-        k
-    }
+    use crate::planning::cps_cycle::tests::l_corridor;
 
     const RANGE: LinkRange = LinkRange {
         min: 1.3,

@@ -186,14 +186,16 @@ pub fn drive_children(
     Ok(())
 }
 
+/// Fixtures shared by the tests of the CPS modules.
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use crate::geom::Point;
     use crate::planning::and_region::certain_view;
     use crate::world::{CellState, GridGeometry};
 
-    fn params() -> CycleParams {
+    /// Cycle parameters with the paper's Eq. (2) targets.
+    pub(crate) fn params() -> CycleParams {
         CycleParams {
             child_radius: 0.25,
             link: LinkRange {
@@ -211,10 +213,20 @@ mod tests {
     }
 
     /// An L-shaped corridor, 2 m wide.
-    fn l_corridor() -> OccupancyGrid {
+    pub(crate) fn l_corridor() -> OccupancyGrid {
         let g = GridGeometry::new(120, 120, 0.1, Point::default());
         let mut k = OccupancyGrid::filled(g, CellState::Occupied);
         k.fill_rect(5, 5, 115, 25, CellState::Free);
+        k.fill_rect(95, 5, 115, 115, CellState::Free);
+        k
+    }
+
+    /// A U-shaped corridor 2 m wide: the two ends share no line of sight.
+    pub(crate) fn u_corridor() -> OccupancyGrid {
+        let g = GridGeometry::new(120, 120, 0.1, Point::default());
+        let mut k = OccupancyGrid::filled(g, CellState::Occupied);
+        k.fill_rect(5, 5, 25, 115, CellState::Free);
+        k.fill_rect(5, 95, 115, 115, CellState::Free);
         k.fill_rect(95, 5, 115, 115, CellState::Free);
         k
     }
@@ -251,12 +263,7 @@ mod tests {
 
     #[test]
     fn no_and_region_asks_for_subgoals() {
-        // A U-shaped corridor: the two ends see no common cell.
-        let g = GridGeometry::new(120, 120, 0.1, Point::default());
-        let mut k = OccupancyGrid::filled(g, CellState::Occupied);
-        k.fill_rect(5, 5, 25, 115, CellState::Free);
-        k.fill_rect(5, 95, 115, 115, CellState::Free);
-        k.fill_rect(95, 5, 115, 115, CellState::Free);
+        let k = u_corridor();
         let err = plan_cycle(
             &k,
             Cell::new(15, 10),

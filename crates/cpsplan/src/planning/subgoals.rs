@@ -109,37 +109,9 @@ pub fn plan_move(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::geom::Point;
-    use crate::planning::and_region::{certain_view, LinkRange};
-    use crate::planning::children::Eq2;
-    use crate::world::{CellState, GridGeometry};
-
-    fn params() -> CycleParams {
-        CycleParams {
-            child_radius: 0.25,
-            link: LinkRange {
-                min: 1.3,
-                max: 20.0,
-            },
-            eq2: Eq2 {
-                alpha_c: 1.0,
-                beta_c: 1.0,
-                theta_t: std::f64::consts::FRAC_PI_2,
-                d_t: 3.0,
-                clearance_cap: 5.0,
-            },
-        }
-    }
-
-    /// A U-shaped corridor 2 m wide: the two ends share no line of sight.
-    fn u_corridor() -> OccupancyGrid {
-        let g = GridGeometry::new(120, 120, 0.1, Point::default());
-        let mut k = OccupancyGrid::filled(g, CellState::Occupied);
-        k.fill_rect(5, 5, 25, 115, CellState::Free);
-        k.fill_rect(5, 95, 115, 115, CellState::Free);
-        k.fill_rect(95, 5, 115, 115, CellState::Free);
-        k
-    }
+    use crate::planning::and_region::certain_view;
+    use crate::planning::cps_cycle::tests::{params, u_corridor};
+    use crate::world::CellState;
 
     #[test]
     fn u_turn_needs_subgoals_and_every_leg_keeps_the_links() {
