@@ -32,5 +32,5 @@ pub mod world;
 
 pub use config::Config;
 pub use geom::{Cell, Point};
-pub use mission::{run_episode, Episode, MissionError, StopReason};
+pub use mission::{run_episode, run_episode_with, Episode, MissionError, StopReason};
 pub use world::{CellState, GridGeometry, OccupancyGrid};

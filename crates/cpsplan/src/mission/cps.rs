@@ -72,6 +72,40 @@ pub struct MoveRecord {
     pub rejected: Vec<RejectedTarget>,
 }
 
+/// The AND region of every child of a recorded cycle, recomputed on the knowledge
+/// map the cycle was planned on: per child, a mask over the grid's cells (row-major)
+/// of where that child could have stood (section IV-B). For pictures and checks.
+pub fn cycle_and_regions(
+    knowledge: &OccupancyGrid,
+    cycle: &CycleRecord,
+    config: &Config,
+) -> Vec<Vec<bool>> {
+    let g = knowledge.geometry();
+    let params = cycle_params(config);
+    let (Some(from), Some(to)) = (
+        g.world_to_cell(cycle.parent_from),
+        g.world_to_cell(cycle.parent_to),
+    ) else {
+        return vec![vec![false; g.len()]; cycle.children.len()];
+    };
+    let mutual = crate::planning::and_region::mutual_view(knowledge, from, to, params.link);
+    cycle
+        .children
+        .iter()
+        .map(|c| match g.world_to_cell(c.from) {
+            Some(cell) => {
+                let reach = crate::planning::and_region::ChildReach::new(
+                    knowledge,
+                    cell,
+                    params.child_radius,
+                );
+                crate::planning::and_region::and_region(&mutual, &reach).cells
+            }
+            None => vec![false; g.len()],
+        })
+        .collect()
+}
+
 /// The cycle parameters of a configuration.
 pub fn cycle_params(config: &Config) -> CycleParams {
     let c = &config.children;

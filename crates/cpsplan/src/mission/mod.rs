@@ -7,7 +7,7 @@
 
 mod cps;
 
-pub use cps::{ChildMove, CycleRecord, MoveRecord, RejectedTarget};
+pub use cps::{cycle_and_regions, ChildMove, CycleRecord, MoveRecord, RejectedTarget};
 
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
@@ -246,6 +246,17 @@ pub fn run_episode(
     config: &Config,
     mut on_step: impl FnMut(&Step),
 ) -> Result<Episode, MissionError> {
+    run_episode_with(truth, start, config, |step, _| on_step(step))
+}
+
+/// [`run_episode`], with `on_step` also seeing the knowledge map the step planned
+/// on (after its scan), e.g. to draw that step.
+pub fn run_episode_with(
+    truth: &OccupancyGrid,
+    start: Point,
+    config: &Config,
+    mut on_step: impl FnMut(&Step, &OccupancyGrid),
+) -> Result<Episode, MissionError> {
     config.validate()?;
     let truth = truth.solidified();
     let g = *truth.geometry();
@@ -316,7 +327,7 @@ pub fn run_episode(
             plan,
             movement,
         };
-        on_step(&step);
+        on_step(&step, &knowledge);
         let decision = step.plan.decision;
         if !at_limit {
             cycles += step.movement.cycles.len();
