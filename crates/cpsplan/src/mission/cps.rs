@@ -9,12 +9,13 @@ use crate::geom::{polyline_length, Cell, Point};
 use crate::planning::and_region::LinkRange;
 use crate::planning::children::Eq2;
 use crate::planning::cps_cycle::{CpsCycle, CycleParams};
+use crate::planning::cps_maps::{CpsMaps, Groundwork};
 use crate::planning::path::to_world;
 use crate::planning::reach::{sweep, UNREACHED};
-use crate::planning::subgoals::{plan_move, MoveError};
-use crate::planning::voronoi::{gvd, voronoi_path, Gvd};
-use crate::planning::{ParentPlan, Traversability};
+use crate::planning::subgoals::{plan_move_in, MoveError};
+use crate::planning::{plan_parent_with_reach, ParentPlan, ParentReach, Traversability};
 use crate::world::OccupancyGrid;
+use rand_chacha::ChaCha8Rng;
 
 /// One child during one CPS cycle.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -99,11 +100,30 @@ pub fn cycle_and_regions(
                     cell,
                     params.child_radius,
                 );
-                crate::planning::and_region::and_region(&mutual, &reach).cells
+                crate::planning::and_region::and_region(&mutual, &reach).to_mask(g.len())
             }
             None => vec![false; g.len()],
         })
         .collect()
+}
+
+/// The parent's planning round (Eq. 1) and, with children, the groundwork of the
+/// CPS planners computed alongside it.
+pub fn plan_round(
+    knowledge: &OccupancyGrid,
+    here: Cell,
+    config: &Config,
+    rng: &mut ChaCha8Rng,
+) -> (ParentPlan, ParentReach, Option<Groundwork>) {
+    let ((plan, reach), groundwork) = rayon::join(
+        || plan_parent_with_reach(knowledge, here, config, rng),
+        || {
+            (config.children.count > 0).then(|| {
+                Groundwork::new(knowledge, here, config.robot.radius, &cycle_params(config))
+            })
+        },
+    );
+    (plan, reach, groundwork)
 }
 
 /// The cycle parameters of a configuration.
@@ -172,16 +192,23 @@ pub struct Moved {
 }
 
 /// Moves the parent from `here` to the best reachable candidate of `plan` by CPS
-/// cycles, trying the eligible candidates in decreasing `G`. Returns the record and
+/// cycles, trying the eligible candidates in decreasing `G`; `reach` is what the
+/// planning round computed for the parent, `groundwork` what [`plan_round`]
+/// computed alongside it (computed here if `None`). Returns the record and
 /// where the robots ended up; `None` when no candidate can be reached.
 pub fn execute_move(
     knowledge: &OccupancyGrid,
     here: Cell,
     children: &[Cell],
     plan: &ParentPlan,
+    reach: ParentReach,
+    groundwork: Option<Groundwork>,
     config: &Config,
 ) -> (MoveRecord, Option<Moved>) {
     let params = cycle_params(config);
+    let groundwork = groundwork
+        .unwrap_or_else(|| Groundwork::new(knowledge, here, config.robot.radius, &params));
+    let maps = CpsMaps::assemble(knowledge, reach, groundwork, &params);
     let mut order: Vec<usize> = (0..plan.candidates.len())
         .filter(|&i| plan.candidates[i].eligible)
         .collect();
@@ -194,25 +221,14 @@ pub fn execute_move(
     let mut record = MoveRecord::default();
     for index in order {
         let target = plan.candidates[index].cell;
-        match plan_move(
-            knowledge,
-            here,
-            target,
-            children,
-            config.robot.radius,
-            &params,
-        ) {
+        match plan_move_in(&maps, here, target, children) {
             Ok(m) => {
                 record.target = Some(index);
                 record.subgoal_retrieval = m.retrieved;
                 let mut parent_len = 0.0;
                 let mut child_len = vec![0.0; children.len()];
-                let diagram = gvd(
-                    knowledge,
-                    &Traversability::new(knowledge, config.robot.radius, here),
-                );
                 for cycle in &m.cycles {
-                    let (rec, plen) = cycle_record(knowledge, cycle, config, &diagram);
+                    let (rec, plen) = cycle_record(&maps, cycle);
                     parent_len += plen;
                     for (l, c) in child_len.iter_mut().zip(&rec.children) {
                         *l += polyline_length(&c.path);
@@ -245,22 +261,11 @@ pub fn execute_move(
 }
 
 /// The record of a cycle with the parent's Voronoi path, and that path's length.
-fn cycle_record(
-    knowledge: &OccupancyGrid,
-    cycle: &CpsCycle,
-    config: &Config,
-    diagram: &Gvd,
-) -> (CycleRecord, f64) {
-    let g = knowledge.geometry();
-    let trav = Traversability::new(knowledge, config.robot.radius, cycle.parent_from);
-    let cells = voronoi_path(
-        knowledge,
-        &trav,
-        diagram,
-        cycle.parent_from,
-        cycle.parent_to,
-    )
-    .unwrap_or_else(|| vec![cycle.parent_from, cycle.parent_to]);
+fn cycle_record(maps: &CpsMaps, cycle: &CpsCycle) -> (CycleRecord, f64) {
+    let g = maps.knowledge().geometry();
+    let cells = maps
+        .parent_path(cycle.parent_from, cycle.parent_to)
+        .unwrap_or_else(|| vec![cycle.parent_from, cycle.parent_to]);
     let parent_path = to_world(g, &cells);
     let length = polyline_length(&parent_path);
     let children = cycle

@@ -16,7 +16,7 @@ use thiserror::Error;
 
 use crate::config::{Config, ConfigError};
 use crate::geom::{Cell, Point};
-use crate::planning::{plan_parent, Decision, ParentPlan};
+use crate::planning::{Decision, ParentPlan};
 use crate::sensing::{scan, ScanOutcome};
 use crate::world::{CellState, CoverageTracker, OccupancyGrid};
 
@@ -225,13 +225,15 @@ pub fn plan_step(
     let mut config = *config;
     config.children.count = kids.len();
     let mut rng = ChaCha8Rng::seed_from_u64(config.seed);
-    let plan = plan_parent(knowledge, here, &config, &mut rng);
+    let (plan, reach, groundwork) = cps::plan_round(knowledge, here, &config, &mut rng);
     let movement = match plan.decision {
         Decision::Target { index } if kids.is_empty() => MoveRecord {
             target: Some(index),
             ..MoveRecord::default()
         },
-        Decision::Target { .. } => cps::execute_move(knowledge, here, &kids, &plan, &config).0,
+        Decision::Target { .. } => {
+            cps::execute_move(knowledge, here, &kids, &plan, reach, groundwork, &config).0
+        }
         _ => MoveRecord::default(),
     };
     Ok(StepPlan { plan, movement })
@@ -293,7 +295,7 @@ pub fn run_episode_with(
         if steps.is_empty() && config.children.count > 0 {
             children = cps::initial_children(&knowledge, here, config);
         }
-        let plan = plan_parent(&knowledge, here, config, &mut rng);
+        let (plan, reach, groundwork) = cps::plan_round(&knowledge, here, config, &mut rng);
         let at_limit = steps.len() + 1 >= config.mission.max_scans;
         let (movement, moved) = match plan.decision {
             Decision::Target { index } => {
@@ -310,7 +312,9 @@ pub fn run_episode_with(
                     };
                     (record, Some(moved))
                 } else {
-                    cps::execute_move(&knowledge, here, &children, &plan, config)
+                    cps::execute_move(
+                        &knowledge, here, &children, &plan, reach, groundwork, config,
+                    )
                 }
             }
             _ => (MoveRecord::default(), None),

@@ -11,14 +11,16 @@
 //! - drivable for the child (its own radius, clear of obstacles and Unknown cells);
 //! - reachable from the child's current position over drivable cells.
 //!
-//! Cost: two visibility sweeps over the range disc, one traversability pass and one
-//! travel sweep per child.
+//! Cost: two visibility sweeps over the range disc and a few linear passes; the
+//! children's reach comes from the connected regions of their [`Terrain`], shared
+//! by all children of one size.
+
+use std::sync::Arc;
 
 use crate::geom::Cell;
-use crate::planning::reach::{sweep, DistanceField, UNREACHED};
-use crate::planning::Traversability;
+use crate::planning::terrain::{Terrain, NO_REGION};
 use crate::sensing::visible_cells;
-use crate::world::{CellState, OccupancyGrid};
+use crate::world::{CellState, GridGeometry, OccupancyGrid};
 
 /// The instrument's range limits (paper Table I), in metres.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -29,91 +31,193 @@ pub struct LinkRange {
     pub max: f64,
 }
 
-/// Cells in certain line of sight from `from` within `range` (metres, centre to
-/// centre), as a mask. Only known-Free cells let the beam through; only known-Free
-/// cells are reported.
-pub fn certain_view(knowledge: &OccupancyGrid, from: Cell, range: LinkRange) -> Vec<bool> {
-    let g = knowledge.geometry();
-    let k = knowledge.cells();
-    let mut mask = vec![false; g.len()];
-    let res = g.resolution;
-    let min2 = (range.min / res).powi(2);
-    let w = g.width;
-    visible_cells(
-        g,
-        from,
-        range.max / res,
-        |i| k[i] != CellState::Free,
-        |i| {
-            if k[i] == CellState::Free {
-                let (dx, dy) = (
-                    (i % w) as f64 - from.x as f64,
-                    (i / w) as f64 - from.y as f64,
-                );
-                if dx * dx + dy * dy >= min2 - 1e-9 {
-                    mask[i] = true;
-                }
-            }
-            false
-        },
-    );
-    mask
+/// The cells in certain line of sight from one position within range, as a mask
+/// over the bounding box of the range disc (clipped to the grid). Only known-Free
+/// cells let the beam through; only known-Free cells are seen.
+#[derive(Debug, Clone)]
+pub struct View {
+    x0: usize,
+    y0: usize,
+    width: usize,
+    height: usize,
+    mask: Vec<bool>,
 }
 
-/// Cells in certain line of sight from both parent positions within range.
+impl View {
+    /// The view from `from` within `range` (metres, centre to centre).
+    pub fn new(knowledge: &OccupancyGrid, from: Cell, range: LinkRange) -> Self {
+        let g = knowledge.geometry();
+        let k = knowledge.cells();
+        let res = g.resolution;
+        let reach = (range.max / res).floor().max(0.0) as usize;
+        let (x0, y0) = (from.x.saturating_sub(reach), from.y.saturating_sub(reach));
+        let x1 = (from.x + reach).min(g.width.saturating_sub(1));
+        let y1 = (from.y + reach).min(g.height.saturating_sub(1));
+        let (width, height) = (x1 + 1 - x0, y1 + 1 - y0);
+        let mut mask = vec![false; width * height];
+        let min2 = (range.min / res).powi(2);
+        let w = g.width;
+        visible_cells(
+            g,
+            from,
+            range.max / res,
+            |i| k[i] != CellState::Free,
+            |i| {
+                let (x, y) = (i % w, i / w);
+                if k[i] == CellState::Free && x >= x0 && x <= x1 && y >= y0 && y <= y1 {
+                    let (dx, dy) = (x as f64 - from.x as f64, y as f64 - from.y as f64);
+                    if dx * dx + dy * dy >= min2 - 1e-9 {
+                        mask[(y - y0) * width + (x - x0)] = true;
+                    }
+                }
+                false
+            },
+        );
+        Self {
+            x0,
+            y0,
+            width,
+            height,
+            mask,
+        }
+    }
+
+    /// Whether `cell` is seen.
+    #[inline]
+    pub fn sees(&self, cell: Cell) -> bool {
+        cell.x >= self.x0
+            && cell.y >= self.y0
+            && cell.x < self.x0 + self.width
+            && cell.y < self.y0 + self.height
+            && self.mask[(cell.y - self.y0) * self.width + (cell.x - self.x0)]
+    }
+
+    /// The view as a mask over all cells of a grid of `geometry`.
+    pub fn to_mask(&self, geometry: &GridGeometry) -> Vec<bool> {
+        let mut out = vec![false; geometry.len()];
+        for (r, row) in self.mask.chunks_exact(self.width.max(1)).enumerate() {
+            let start = (self.y0 + r) * geometry.width + self.x0;
+            out[start..start + self.width].copy_from_slice(row);
+        }
+        out
+    }
+}
+
+/// Cells in certain line of sight from `from` within `range` (metres, centre to
+/// centre), as a mask over the grid. Only known-Free cells let the beam through;
+/// only known-Free cells are reported.
+pub fn certain_view(knowledge: &OccupancyGrid, from: Cell, range: LinkRange) -> Vec<bool> {
+    View::new(knowledge, from, range).to_mask(knowledge.geometry())
+}
+
+/// The cells both views see, as ascending grid indices.
+pub fn seen_by_both(geometry: &GridGeometry, a: &View, b: &View) -> Vec<u32> {
+    let x0 = a.x0.max(b.x0);
+    let y0 = a.y0.max(b.y0);
+    let x1 = (a.x0 + a.width).min(b.x0 + b.width);
+    let y1 = (a.y0 + a.height).min(b.y0 + b.height);
+    let mut out = Vec::new();
+    for y in y0..y1 {
+        let ra = &a.mask[(y - a.y0) * a.width..][..a.width];
+        let rb = &b.mask[(y - b.y0) * b.width..][..b.width];
+        for x in x0..x1 {
+            if ra[x - a.x0] && rb[x - b.x0] {
+                out.push((y * geometry.width + x) as u32);
+            }
+        }
+    }
+    out
+}
+
+/// Cells in certain line of sight from both parent positions within range, as
+/// ascending grid indices.
 pub fn mutual_view(
     knowledge: &OccupancyGrid,
     parent_from: Cell,
     parent_to: Cell,
     range: LinkRange,
-) -> Vec<bool> {
-    let a = certain_view(knowledge, parent_from, range);
-    let mut b = certain_view(knowledge, parent_to, range);
-    for (x, y) in b.iter_mut().zip(a) {
-        *x &= y;
-    }
-    b
+) -> Vec<u32> {
+    let a = View::new(knowledge, parent_from, range);
+    let b = View::new(knowledge, parent_to, range);
+    seen_by_both(knowledge.geometry(), &a, &b)
 }
 
 /// One child's AND region.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, PartialEq, Eq)]
 pub struct AndRegion {
-    /// Per cell: the child may stand here for the cycle.
-    pub cells: Vec<bool>,
-    /// Number of cells in the region.
-    pub size: usize,
+    /// The cells where the child may stand for the cycle, ascending grid indices.
+    pub cells: Vec<u32>,
 }
 
-/// Where a child can drive: its drivable cells and travel distances from where it
-/// stands. Independent of the parent, so computed once per child position.
+impl AndRegion {
+    /// Number of cells in the region.
+    pub fn size(&self) -> usize {
+        self.cells.len()
+    }
+
+    /// Whether cell `index` is in the region.
+    pub fn contains(&self, index: usize) -> bool {
+        self.cells.binary_search(&(index as u32)).is_ok()
+    }
+
+    /// The region as a mask over the `len` cells of the grid.
+    pub fn to_mask(&self, len: usize) -> Vec<bool> {
+        let mut out = vec![false; len];
+        for &i in &self.cells {
+            out[i as usize] = true;
+        }
+        out
+    }
+}
+
+/// Where a child can drive: its terrain and the connected region it stands in.
+/// Independent of the parent, and shared by every child on the same terrain.
 #[derive(Debug, Clone)]
 pub struct ChildReach {
-    /// Drivable cells of the child.
-    pub trav: Traversability,
-    /// Travel distances of the child from its current position.
-    pub travel: DistanceField,
+    /// Drivable cells of the child and their connected regions.
+    pub terrain: Arc<Terrain>,
+    /// The region the child stands in ([`NO_REGION`] if it stands on no passable
+    /// cell, so that it reaches nothing).
+    pub region: u32,
 }
 
 impl ChildReach {
-    /// The reach of a child of `radius` metres at `child`.
+    /// The reach of a child of `radius` metres at `child`, on a terrain of its own.
     pub fn new(knowledge: &OccupancyGrid, child: Cell, radius: f64) -> Self {
-        let g = knowledge.geometry();
-        let trav = Traversability::new(knowledge, radius, child);
-        let travel = sweep(g, &trav.passable, &[g.index(child)], UNREACHED);
-        Self { trav, travel }
+        let terrain = Arc::new(Terrain::new(knowledge, radius, child));
+        let region = terrain.region[knowledge.geometry().index(child)];
+        Self { terrain, region }
+    }
+
+    /// The reach of a child at `child` on a shared `terrain`, if the child stands
+    /// on one of its passable cells.
+    pub fn on(terrain: &Arc<Terrain>, geometry: &GridGeometry, child: Cell) -> Option<Self> {
+        let region = terrain.region_of(geometry.index(child))?;
+        Some(Self {
+            terrain: Arc::clone(terrain),
+            region,
+        })
+    }
+
+    /// Whether the child can stand on cell `index` and drive there.
+    #[inline]
+    pub fn reaches(&self, index: usize) -> bool {
+        self.region != NO_REGION
+            && self.terrain.trav.traversable[index]
+            && self.terrain.region[index] == self.region
     }
 }
 
 /// The AND region of a child with reach `reach`, given the cells that both parent
-/// positions see (`mutual`, from [`mutual_view`]).
-pub fn and_region(mutual: &[bool], reach: &ChildReach) -> AndRegion {
-    let cells: Vec<bool> = mutual
-        .iter()
-        .enumerate()
-        .map(|(i, &m)| m && reach.trav.traversable[i] && reach.travel.reached(i))
-        .collect();
-    let size = cells.iter().filter(|&&c| c).count();
-    AndRegion { cells, size }
+/// positions see (`mutual`, ascending indices from [`mutual_view`]).
+pub fn and_region(mutual: &[u32], reach: &ChildReach) -> AndRegion {
+    AndRegion {
+        cells: mutual
+            .iter()
+            .copied()
+            .filter(|&i| reach.reaches(i as usize))
+            .collect(),
+    }
 }
 
 #[cfg(test)]
@@ -153,9 +257,9 @@ mod tests {
         let to = Cell::new(105, 100);
         let mutual = mutual_view(&k, from, to, RANGE);
         let region = and_region(&mutual, &ChildReach::new(&k, Cell::new(30, 15), 0.25));
-        assert!(region.size > 0);
-        for i in (0..g.len()).filter(|&i| region.cells[i]) {
-            let c = g.cell(i);
+        assert!(region.size() > 0);
+        for &i in &region.cells {
+            let c = g.cell(i as usize);
             // Both parents see the cell: it lies around the corner where the arms
             // meet (grazing lines reach a little past the arms' edges).
             assert!(c.x >= 85 && c.y < 35, "{c:?}");
@@ -171,8 +275,8 @@ mod tests {
         k.fill_rect(60, 5, 62, 25, CellState::Occupied);
         let mutual = mutual_view(&k, Cell::new(105, 15), Cell::new(105, 100), RANGE);
         let blocked = and_region(&mutual, &ChildReach::new(&k, Cell::new(30, 15), 0.25));
-        assert_eq!(blocked.size, 0);
+        assert_eq!(blocked.size(), 0);
         let open = and_region(&mutual, &ChildReach::new(&k, Cell::new(100, 40), 0.25));
-        assert!(open.size > 0);
+        assert!(open.size() > 0);
     }
 }

@@ -117,7 +117,13 @@ fn bin_of(bearing: f64) -> usize {
 
 /// The angle between two bearings, in [0, π].
 fn angle_between(a: f64, b: f64) -> f64 {
-    let d = (a - b).abs() % std::f64::consts::TAU;
+    let d = (a - b).abs();
+    // Bearings lie in [0, 2π), so no remainder is needed in the common case.
+    let d = if d < std::f64::consts::TAU {
+        d
+    } else {
+        d % std::f64::consts::TAU
+    };
     d.min(std::f64::consts::TAU - d)
 }
 
@@ -155,22 +161,45 @@ fn best_pair(a: &[Scored], b: &[Scored], min_sep2: i64, w: &Eq2) -> Option<(usiz
     }
     let occupied_a: Vec<usize> = (0..BINS).filter(|&k| !bins_a[k].is_empty()).collect();
     let occupied_b: Vec<usize> = (0..BINS).filter(|&k| !bins_b[k].is_empty()).collect();
-    let mut pairs: Vec<(f64, usize, usize)> =
-        Vec::with_capacity(occupied_a.len() * occupied_b.len());
+    // The angle bound depends only on how many bins apart two bins are.
+    let bound_of_gap: Vec<f64> = (0..BINS).map(|d| angle_bound(0, d, w)).collect();
+    let gap = |ka: usize, kb: usize| ka.abs_diff(kb).min(BINS - ka.abs_diff(kb));
+    let separated = |p: &Scored, q: &Scored| {
+        let (dx, dy) = (
+            p.cell.x as i64 - q.cell.x as i64,
+            p.cell.y as i64 - q.cell.y as i64,
+        );
+        dx * dx + dy * dy >= min_sep2
+    };
+    // An incumbent from the best cell of every bin pair, so that only bin pairs
+    // whose bound beats it need sorting and searching.
+    let mut incumbent: Option<f64> = None;
+    for &ka in &occupied_a {
+        let p = &a[bins_a[ka][0]];
+        for &kb in &occupied_b {
+            let q = &b[bins_b[kb][0]];
+            if separated(p, q) {
+                let v = p.own + q.own + angle_term(angle_between(p.bearing, q.bearing), w);
+                incumbent = Some(incumbent.map_or(v, |b: f64| b.max(v)));
+            }
+        }
+    }
+    let mut pairs: Vec<(f64, usize, usize)> = Vec::new();
     for &ka in &occupied_a {
         let best_a = a[bins_a[ka][0]].own;
         for &kb in &occupied_b {
-            let bound = best_a + b[bins_b[kb][0]].own + angle_bound(ka, kb, w);
-            pairs.push((bound, ka, kb));
+            let bound = best_a + b[bins_b[kb][0]].own + bound_of_gap[gap(ka, kb)];
+            if incumbent.is_none_or(|v| bound >= v) {
+                pairs.push((bound, ka, kb));
+            }
         }
     }
-    pairs.sort_by(|x, y| y.0.total_cmp(&x.0).then((x.1, x.2).cmp(&(y.1, y.2))));
     let mut best: Option<(usize, usize, f64)> = None;
     for (bound, ka, kb) in pairs {
         if best.is_some_and(|(_, _, v)| bound <= v) {
             break;
         }
-        let ub_angle = angle_bound(ka, kb, w);
+        let ub_angle = bound_of_gap[gap(ka, kb)];
         for &i in &bins_a[ka] {
             let top_b = b[bins_b[kb][0]].own;
             if best.is_some_and(|(_, _, v)| a[i].own + top_b + ub_angle <= v) {
@@ -180,11 +209,7 @@ fn best_pair(a: &[Scored], b: &[Scored], min_sep2: i64, w: &Eq2) -> Option<(usiz
                 if best.is_some_and(|(_, _, v)| a[i].own + b[j].own + ub_angle <= v) {
                     break;
                 }
-                let (dx, dy) = (
-                    a[i].cell.x as i64 - b[j].cell.x as i64,
-                    a[i].cell.y as i64 - b[j].cell.y as i64,
-                );
-                if dx * dx + dy * dy < min_sep2 {
+                if !separated(&a[i], &b[j]) {
                     continue;
                 }
                 let v =

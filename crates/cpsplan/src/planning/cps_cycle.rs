@@ -10,9 +10,9 @@
 
 use thiserror::Error;
 
-use super::and_region::{and_region, mutual_view, ChildReach, LinkRange};
+use super::and_region::{and_region, ChildReach, LinkRange};
 use super::children::{place_children, Eq2, Placement, Spot};
-use super::voronoi::{gvd, voronoi_path, Gvd};
+use super::cps_maps::CpsMaps;
 use crate::geom::Cell;
 use crate::world::OccupancyGrid;
 
@@ -78,14 +78,10 @@ pub fn plan_cycle(
     children: &[Cell],
     params: &CycleParams,
 ) -> Result<CpsCycle, CycleError> {
-    let reach: Vec<ChildReach> = children
-        .iter()
-        .map(|&c| ChildReach::new(knowledge, c, params.child_radius))
-        .collect();
-    let mut cycle = place_cycle(knowledge, parent_from, parent_to, children, &reach, params)?;
-    let trav = crate::planning::Traversability::new(knowledge, params.child_radius, parent_from);
-    let diagram = gvd(knowledge, &trav);
-    drive_children(knowledge, &mut cycle, params.child_radius, &diagram)?;
+    let maps = CpsMaps::new(knowledge, parent_from, params.child_radius, params);
+    let reach: Vec<ChildReach> = children.iter().map(|&c| maps.reach(c)).collect();
+    let mut cycle = place_cycle(&maps, parent_from, parent_to, children, &reach)?;
+    drive_children(&maps, &mut cycle)?;
     Ok(cycle)
 }
 
@@ -93,46 +89,47 @@ pub fn plan_cycle(
 /// not yet planned: each moving child's path is just its two ends); `reach[i]` is
 /// child `i`'s [`ChildReach`].
 pub fn place_cycle(
-    knowledge: &OccupancyGrid,
+    maps: &CpsMaps,
     parent_from: Cell,
     parent_to: Cell,
     children: &[Cell],
     reach: &[ChildReach],
-    params: &CycleParams,
 ) -> Result<CpsCycle, CycleError> {
-    let g = *knowledge.geometry();
-    let mutual = mutual_view(knowledge, parent_from, parent_to, params.link);
+    let params = maps.params();
+    let g = *maps.knowledge().geometry();
+    let mutual = maps.mutual_view(parent_from, parent_to);
     let regions: Vec<_> = reach.iter().map(|r| and_region(&mutual, r)).collect();
     let stays: Vec<bool> = children
         .iter()
         .zip(&regions)
-        .map(|(&c, r)| r.cells[g.index(c)])
+        .map(|(&c, r)| r.contains(g.index(c)))
         .collect();
-    if let Some(child) = (0..children.len()).find(|&i| !stays[i] && regions[i].size == 0) {
+    if let Some(child) = (0..children.len()).find(|&i| !stays[i] && regions[i].size() == 0) {
         return Err(CycleError::NoAndRegion { child });
     }
     let movers: Vec<usize> = (0..children.len()).filter(|&i| !stays[i]).collect();
+    let staying: Vec<Cell> = (0..children.len())
+        .filter(|&s| stays[s])
+        .map(|s| children[s])
+        .collect();
+    let sep2 = (2.0 * params.child_radius / g.resolution).powi(2);
     let spots: Vec<Vec<Spot>> = movers
         .iter()
         .map(|&i| {
-            let r = &regions[i];
-            let trav = &reach[i].trav;
-            (0..g.len())
-                .filter(|&j| r.cells[j])
-                .filter(|&j| {
-                    // Keep clear of children that stay.
-                    let c = g.cell(j);
-                    (0..children.len()).filter(|&s| stays[s]).all(|s| {
-                        let (dx, dy) = (
-                            c.x as f64 - children[s].x as f64,
-                            c.y as f64 - children[s].y as f64,
-                        );
-                        dx.hypot(dy) * g.resolution >= 2.0 * params.child_radius
+            regions[i]
+                .cells
+                .iter()
+                .map(|&j| (j as usize, g.cell(j as usize)))
+                // Keep clear of children that stay.
+                .filter(|&(_, c)| {
+                    staying.iter().all(|s| {
+                        let (dx, dy) = (c.x as f64 - s.x as f64, c.y as f64 - s.y as f64);
+                        dx * dx + dy * dy >= sep2
                     })
                 })
-                .map(|j| Spot {
-                    cell: g.cell(j),
-                    clearance: trav.clearance_at(j) as f64,
+                .map(|(j, cell)| Spot {
+                    cell,
+                    clearance: maps.clearance_m(j),
                 })
                 .collect()
         })
@@ -147,7 +144,7 @@ pub fn place_cycle(
             stays: true,
             path: vec![c],
             placement: None,
-            and_region_cells: r.size,
+            and_region_cells: r.size(),
         })
         .collect();
     for (k, &i) in movers.iter().enumerate() {
@@ -160,7 +157,7 @@ pub fn place_cycle(
             stays: false,
             path: vec![children[i], p.cell],
             placement: Some(p),
-            and_region_cells: regions[i].size,
+            and_region_cells: regions[i].size(),
         };
     }
     Ok(CpsCycle {
@@ -170,17 +167,12 @@ pub fn place_cycle(
     })
 }
 
-/// Plans every moving child's path along the Voronoi edges of `diagram` (the GVD
-/// of `knowledge` for robots of `radius`).
-pub fn drive_children(
-    knowledge: &OccupancyGrid,
-    cycle: &mut CpsCycle,
-    radius: f64,
-    diagram: &Gvd,
-) -> Result<(), CycleError> {
+/// Plans every moving child's path along the Voronoi edges of the children's
+/// diagram in `maps`.
+pub fn drive_children(maps: &CpsMaps, cycle: &mut CpsCycle) -> Result<(), CycleError> {
     for child in cycle.children.iter_mut().filter(|c| !c.stays) {
-        let trav = crate::planning::Traversability::new(knowledge, radius, child.from);
-        child.path = voronoi_path(knowledge, &trav, diagram, child.from, child.to)
+        child.path = maps
+            .child_path(child.from, child.to)
             .ok_or(CycleError::NoJointPlacement)?;
     }
     Ok(())

@@ -5,6 +5,7 @@
 pub mod and_region;
 pub mod children;
 pub mod cps_cycle;
+pub mod cps_maps;
 pub mod distance;
 pub mod frontier;
 pub mod kmeans;
@@ -13,10 +14,15 @@ mod parent;
 pub mod path;
 pub mod reach;
 pub mod score;
+pub mod search;
 pub mod subgoals;
+pub mod terrain;
 pub mod traversability;
 pub mod visgraph;
 pub mod voronoi;
 
-pub use parent::{plan_parent, Candidate, CandidateOrigin, Decision, ParentPlan};
+pub use parent::{
+    plan_parent, plan_parent_with_reach, Candidate, CandidateOrigin, Decision, ParentPlan,
+    ParentReach,
+};
 pub use traversability::Traversability;

@@ -123,6 +123,26 @@ pub fn plan_parent(
     config: &Config,
     rng: &mut ChaCha8Rng,
 ) -> ParentPlan {
+    plan_parent_with_reach(knowledge, parent, config, rng).0
+}
+
+/// The parent's drivable cells and travel distances that a planning round
+/// computed, for the CPS planners of the same step to reuse.
+#[derive(Debug, Clone)]
+pub struct ParentReach {
+    /// The parent's drivable cells.
+    pub trav: Traversability,
+    /// Travel distances from the parent.
+    pub field: DistanceField,
+}
+
+/// [`plan_parent`], also returning the parent's [`ParentReach`].
+pub fn plan_parent_with_reach(
+    knowledge: &OccupancyGrid,
+    parent: Cell,
+    config: &Config,
+    rng: &mut ChaCha8Rng,
+) -> (ParentPlan, ParentReach) {
     let g = *knowledge.geometry();
     let pc = &config.parent;
     let range_cells = config.range_cells();
@@ -173,7 +193,7 @@ pub fn plan_parent(
         path_length_m: 0.0,
     };
     let Some((band_cells, samples, clustering)) = stages else {
-        return plan;
+        return (plan, ParentReach { trav, field });
     };
     plan.band_cells = band_cells.len();
     plan.clusters = clustering.centroids.len();
@@ -272,7 +292,7 @@ pub fn plan_parent(
             }
         }
     }
-    plan
+    (plan, ParentReach { trav, field })
 }
 
 fn new_candidate(

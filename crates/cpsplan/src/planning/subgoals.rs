@@ -20,9 +20,7 @@ use thiserror::Error;
 
 use super::and_region::ChildReach;
 use super::cps_cycle::{drive_children, place_cycle, CpsCycle, CycleError, CycleParams};
-use super::visgraph::VisibilityGraph;
-use super::voronoi::gvd;
-use super::Traversability;
+use super::cps_maps::CpsMaps;
 use crate::geom::Cell;
 use crate::world::OccupancyGrid;
 
@@ -59,31 +57,36 @@ pub fn plan_move(
     parent_radius: f64,
     params: &CycleParams,
 ) -> Result<MovePlan, MoveError> {
-    let child_trav = Traversability::new(knowledge, params.child_radius, from);
-    let diagram = gvd(knowledge, &child_trav);
+    let maps = CpsMaps::new(knowledge, from, parent_radius, params);
+    plan_move_in(&maps, from, to, children)
+}
+
+/// [`plan_move`] on the step's shared maps.
+pub fn plan_move_in(
+    maps: &CpsMaps,
+    from: Cell,
+    to: Cell,
+    children: &[Cell],
+) -> Result<MovePlan, MoveError> {
     let drive = |mut cycles: Vec<CpsCycle>, retrieved: bool| -> Result<MovePlan, MoveError> {
         for c in &mut cycles {
-            drive_children(knowledge, c, params.child_radius, &diagram)
-                .map_err(|_| MoveError::Stuck { at: c.parent_from })?;
+            drive_children(maps, c).map_err(|_| MoveError::Stuck { at: c.parent_from })?;
         }
         Ok(MovePlan { cycles, retrieved })
     };
-    let reach_of = |kids: &[Cell]| -> Vec<ChildReach> {
-        kids.iter()
-            .map(|&c| ChildReach::new(knowledge, c, params.child_radius))
-            .collect()
-    };
+    let reach_of =
+        |kids: &[Cell]| -> Vec<ChildReach> { kids.iter().map(|&c| maps.reach(c)).collect() };
     let mut reach = reach_of(children);
     // Step 1.
-    match place_cycle(knowledge, from, to, children, &reach, params) {
+    match place_cycle(maps, from, to, children, &reach) {
         Ok(cycle) => return drive(vec![cycle], false),
         Err(CycleError::NoAndRegion { .. } | CycleError::NoJointPlacement) => {}
     }
     // Step 2.
-    let trav = Traversability::new(knowledge, parent_radius, from);
-    let graph = VisibilityGraph::build(knowledge, &trav);
-    let path = graph
-        .shortest_path(knowledge.geometry(), &trav, from, to)
+    let trav = &maps.parent_terrain().trav;
+    let path = maps
+        .visibility_graph()
+        .shortest_path(maps.knowledge().geometry(), trav, from, to)
         .ok_or(MoveError::NoPath)?;
     // Steps 3–8.
     let mut cycles = Vec::new();
@@ -91,7 +94,7 @@ pub fn plan_move(
     let mut kids: Vec<Cell> = children.to_vec();
     while here + 1 < path.len() {
         let next = (here + 1..path.len()).rev().find_map(|j| {
-            place_cycle(knowledge, path[here], path[j], &kids, &reach, params)
+            place_cycle(maps, path[here], path[j], &kids, &reach)
                 .ok()
                 .map(|c| (j, c))
         });

@@ -41,6 +41,7 @@ pub struct Traversability {
     /// Per cell: traversable, or in the escape region of the robot.
     pub passable: Vec<bool>,
     clearance: OccupiedColumns,
+    radius: f64,
 }
 
 /// The known Occupied cells, by column: the rows of the Occupied cells of column
@@ -55,9 +56,10 @@ struct OccupiedColumns {
     rows: Vec<usize>,
 }
 
-/// The clearance rule in metres for a centre distance of `d` cells.
+/// The clearance rule in metres for a centre distance of `d` cells: the centre
+/// distance minus half a cell, at least 0.
 #[inline]
-fn to_metres(d: f32, res: f64) -> f32 {
+pub fn clearance_metres(d: f32, res: f64) -> f32 {
     ((d - 0.5).max(0.0) as f64 * res) as f32
 }
 
@@ -102,7 +104,13 @@ impl Traversability {
             traversable,
             passable,
             clearance,
+            radius,
         }
+    }
+
+    /// The robot radius, metres, these cells were computed for.
+    pub fn radius(&self) -> f64 {
+        self.radius
     }
 
     /// Metres from the centre of cell `index` to the nearest known Occupied cell
@@ -192,12 +200,12 @@ impl OccupiedColumns {
         if best == u64::MAX {
             f32::INFINITY
         } else {
-            to_metres(distance_of(best), self.resolution)
+            clearance_metres(distance_of(best), self.resolution)
         }
     }
 }
 
-/// The traversability rule `to_metres(min(d, edge)) ≥ radius − 1e-6` turned into
+/// The traversability rule `clearance_metres(min(d, edge)) ≥ radius − 1e-6` turned into
 /// integer thresholds: the squared distance `d²` to the nearest non-Free cell at
 /// least some `T`, and `edge ≥ min_edge`.
 struct SafeRule {
@@ -214,7 +222,7 @@ impl SafeRule {
         let need_m = radius as f32 - 1e-6;
         // The rule is monotone in the distance: find its thresholds by bisection on
         // the exact f32 values the metric rule compares.
-        let passes = |d: f32| to_metres(d, res) >= need_m;
+        let passes = |d: f32| clearance_metres(d, res) >= need_m;
         let max_edge = (w.min(h).max(1) - 1) / 2 + 1;
         let edge_passes = |e: usize| passes(e as f32);
         if !edge_passes(max_edge) {

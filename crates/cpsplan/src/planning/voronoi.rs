@@ -55,13 +55,10 @@
 //! skeleton Dijkstra O(s log s) for `s` skeleton cells, and string pulling
 //! O(k² · l) for a leg of `k` cells and segments of `l` cells.
 
-use std::cmp::Reverse;
-use std::collections::BinaryHeap;
-
 use rayon::prelude::*;
 
 use super::line::segment_clear;
-use super::reach::{descend, sweep, DistanceField, DIAGONAL, STRAIGHT, UNREACHED};
+use super::search::{octile, search};
 use super::traversability::Traversability;
 use crate::geom::Cell;
 use crate::world::{CellState, GridGeometry, OccupancyGrid};
@@ -85,6 +82,9 @@ pub struct Gvd {
     /// nearest non-Free cell or of the ring of cells just outside the grid (0 on
     /// non-Free cells).
     pub clearance: Vec<f32>,
+    /// Per cell: the connected part of the skeleton it belongs to (`u32::MAX` off
+    /// the skeleton).
+    pub edge_component: Vec<u32>,
 }
 
 impl Gvd {
@@ -98,20 +98,26 @@ impl Gvd {
 /// to the cells with `trav.passable`. See the module documentation for the method.
 pub fn gvd(knowledge: &OccupancyGrid, trav: &Traversability) -> Gvd {
     let g = knowledge.geometry();
-    let (w, h) = (g.width, g.height);
-    let n = w * h;
-    if n == 0 {
+    let (w, n) = (g.width, g.len());
+    let mut skeleton = vec![false; n];
+    let mut clearance = vec![0.0f32; n];
+    // Everything outside the bounding box of the Free cells is an obstacle, so the
+    // box plus a one-cell ring (the window) is all that matters.
+    let Some((x0, y0, x1, y1)) = free_bounds(knowledge) else {
         return Gvd {
-            skeleton: Vec::new(),
-            clearance: Vec::new(),
+            skeleton,
+            clearance,
+            edge_component: vec![NONE; n],
         };
-    }
-    let (pw, ph) = (w + 2, h + 2);
+    };
+    let (bw, bh) = (x1 - x0 + 1, y1 - y0 + 1);
+    let (pw, ph) = (bw + 2, bh + 2);
     let k = knowledge.cells();
-    // Obstacles of the padded window: the ring and every non-Free cell.
+    // Obstacles of the window: the ring and every non-Free cell.
     let mut obstacle = vec![true; pw * ph];
-    for (y, row) in k.chunks_exact(w).enumerate() {
-        let out = &mut obstacle[(y + 1) * pw + 1..][..w];
+    for y in 0..bh {
+        let row = &k[(y0 + y) * w + x0..][..bw];
+        let out = &mut obstacle[(y + 1) * pw + 1..][..bw];
         for (o, &s) in out.iter_mut().zip(row) {
             *o = s != CellState::Free;
         }
@@ -121,41 +127,62 @@ pub fn gvd(knowledge: &OccupancyGrid, trav: &Traversability) -> Gvd {
     let cos_min = MIN_EDGE_ANGLE_DEG.to_radians().cos();
     let passable = &trav.passable;
 
-    let mut skeleton = vec![false; n];
-    skeleton.par_chunks_mut(w).enumerate().for_each(|(y, row)| {
-        for (x, s) in row.iter_mut().enumerate() {
-            if !passable[y * w + x] {
-                continue;
-            }
-            let p = Site::new(pw, x + 1, y + 1);
-            *s = [
-                Site::new(pw, x + 2, y + 1),
-                Site::new(pw, x, y + 1),
-                Site::new(pw, x + 1, y + 2),
-                Site::new(pw, x + 1, y),
-            ]
-            .into_iter()
-            .any(|q| {
-                !obstacle[q.i]
-                    && straddles(pw, p, q, &feature, &d2, &component, cos_min)
-                    && wins(p, q, &feature, &d2)
-            });
-        }
-    });
-    let mut clearance = vec![0.0f32; n];
-    clearance
+    skeleton[y0 * w..(y1 + 1) * w]
         .par_chunks_mut(w)
+        .zip(clearance[y0 * w..(y1 + 1) * w].par_chunks_mut(w))
         .enumerate()
-        .for_each(|(y, row)| {
-            let src = &d2[(y + 1) * pw + 1..][..w];
-            for (c, &d) in row.iter_mut().zip(src) {
+        .for_each(|(by, (row, clear_row))| {
+            let y = y0 + by;
+            let src = &d2[(by + 1) * pw + 1..][..bw];
+            for (c, &d) in clear_row[x0..=x1].iter_mut().zip(src) {
                 *c = (d as f64).sqrt() as f32;
             }
+            for (bx, s) in row[x0..=x1].iter_mut().enumerate() {
+                if !passable[y * w + x0 + bx] {
+                    continue;
+                }
+                let (px, py) = (bx + 1, by + 1);
+                let p = Site::new(pw, px, py);
+                *s = [
+                    Site::new(pw, px + 1, py),
+                    Site::new(pw, px - 1, py),
+                    Site::new(pw, px, py + 1),
+                    Site::new(pw, px, py - 1),
+                ]
+                .into_iter()
+                .any(|q| {
+                    !obstacle[q.i]
+                        && straddles(pw, p, q, &feature, &d2, &component, cos_min)
+                        && wins(p, q, &feature, &d2)
+                });
+            }
         });
+    let edge_component = edge_components(g, passable, &skeleton);
     Gvd {
         skeleton,
         clearance,
+        edge_component,
     }
+}
+
+/// Inclusive bounds `(x0, y0, x1, y1)` of the Free cells, if any.
+fn free_bounds(knowledge: &OccupancyGrid) -> Option<(usize, usize, usize, usize)> {
+    let w = knowledge.width();
+    let mut b: Option<(usize, usize, usize, usize)> = None;
+    for (y, row) in knowledge.cells().chunks(w).enumerate() {
+        let Some(first) = row.iter().position(|&c| c == CellState::Free) else {
+            continue;
+        };
+        let last = row
+            .iter()
+            .rposition(|&c| c == CellState::Free)
+            .unwrap_or(first);
+        b = Some(match b {
+            None => (first, y, last, y),
+            Some((x0, y0, x1, _)) => (x0.min(first), y0, x1.max(last), y),
+        });
+    }
+    b
 }
 
 /// A cell of the padded window: index and coordinates.
@@ -326,8 +353,7 @@ fn components(pw: usize, ph: usize, obstacle: &[bool]) -> Vec<u32> {
 /// shortened where a straight segment stays drivable (see the module
 /// documentation). Falls back to the plain cheapest drivable path where the
 /// skeleton does not connect the two. Waypoint cells, `from` first and `to` last;
-/// `None` if `to` is outside the grid or not reached by the travel-distance sweep
-/// from `from`.
+/// `None` if `to` is outside the grid or not reachable from `from`.
 pub fn voronoi_path(
     knowledge: &OccupancyGrid,
     trav: &Traversability,
@@ -341,13 +367,11 @@ pub fn voronoi_path(
     if !inside(from) || !inside(to) {
         return None;
     }
-    let (fi, ti) = (g.index(from), g.index(to));
-    let fa = sweep(g, passable, &[fi], UNREACHED);
-    if !fa.reached(ti) {
-        return None;
-    }
-    if fi == ti {
+    if from == to {
         return Some(vec![from]);
+    }
+    if !passable[g.index(to)] {
+        return None;
     }
     let clear = |a: Cell, b: Cell| segment_clear(g, a, b, |i| passable[i]);
     let mut out: Vec<Cell> = Vec::new();
@@ -358,7 +382,7 @@ pub fn voronoi_path(
             }
         }
     };
-    match along_edges(g, passable, gvd, &fa, ti) {
+    match along_edges(g, passable, gvd, from, to) {
         Some([approach, edge, leave]) => {
             append(pull(&approach, |a, b| clear(approach[a], approach[b])));
             let floor = |a: usize, b: usize| {
@@ -376,7 +400,16 @@ pub fn voronoi_path(
             append(pull(&leave, |a, b| clear(leave[a], leave[b])));
         }
         None => {
-            let cells = descend(g, &fa, passable, to)?;
+            let open = |i: usize| passable[i];
+            let ti = g.index(to);
+            let cells = search(
+                g,
+                g.index(from),
+                open,
+                open,
+                |i| i == ti,
+                |i| octile(g.cell(i), to),
+            )?;
             append(pull(&cells, |a, b| clear(cells[a], cells[b])));
         }
     }
@@ -385,82 +418,84 @@ pub fn voronoi_path(
 
 /// The three legs of the motion along the Voronoi edges (cells, each leg's first
 /// cell the previous leg's last), or `None` if the skeleton does not connect.
+///
+/// Three early-stopping searches: from `from` to the nearest skeleton cell (the
+/// entry); from `to` to the nearest skeleton cell of the entry's edge component
+/// (the exit); A* along the skeleton from entry to exit.
 fn along_edges(
     g: &GridGeometry,
     passable: &[bool],
     gvd: &Gvd,
-    fa: &DistanceField,
-    ti: usize,
+    from: Cell,
+    to: Cell,
 ) -> Option<[Vec<Cell>; 3]> {
-    let entry = (0..g.len())
-        .filter(|&i| gvd.skeleton[i] && fa.reached(i))
-        .min_by_key(|&i| fa.cost[i])?;
-    let fb = sweep(g, passable, &[ti], UNREACHED);
-    let (cost, parent) = skeleton_dijkstra(g, passable, &gvd.skeleton, entry);
-    let exit = (0..g.len())
-        .filter(|&i| cost[i] != UNREACHED && fb.reached(i))
-        .min_by_key(|&i| (fb.cost[i], cost[i]))?;
-    let approach = descend(g, fa, passable, g.cell(entry))?;
-    let mut edge = vec![g.cell(exit)];
-    let mut i = exit;
-    while i != entry {
-        i = parent[i] as usize;
-        edge.push(g.cell(i));
-    }
-    edge.reverse();
-    let mut leave = descend(g, &fb, passable, g.cell(exit))?;
+    let open = |i: usize| passable[i];
+    let on_edge = |i: usize| gvd.skeleton[i];
+    let approach = search(g, g.index(from), open, open, on_edge, |_| 0)?;
+    let entry = g.index(*approach.last()?);
+    let part = gvd.edge_component[entry];
+    let mut leave = search(
+        g,
+        g.index(to),
+        open,
+        open,
+        |i| gvd.skeleton[i] && gvd.edge_component[i] == part,
+        |_| 0,
+    )?;
     leave.reverse();
+    let exit = *leave.first()?;
+    let xi = g.index(exit);
+    let edge = search(
+        g,
+        entry,
+        |i| on_edge(i) && open(i),
+        open,
+        |i| i == xi,
+        |i| octile(g.cell(i), exit),
+    )?;
     Some([approach, edge, leave])
 }
 
-/// Dijkstra over the skeleton cells from `source` with the sweep's step costs;
-/// a diagonal step needs both cells beside it passable. Costs ([`UNREACHED`] off
-/// the source's part of the skeleton) and parents.
-fn skeleton_dijkstra(
-    g: &GridGeometry,
-    passable: &[bool],
-    skeleton: &[bool],
-    source: usize,
-) -> (Vec<u32>, Vec<u32>) {
+/// Labels of the connected parts of the skeleton: 8-neighbouring skeleton cells
+/// are connected where a diagonal step has both cells beside it passable (the
+/// steps the path search takes). [`NONE`] off the skeleton.
+fn edge_components(g: &GridGeometry, passable: &[bool], skeleton: &[bool]) -> Vec<u32> {
     let (w, h) = (g.width as i64, g.height as i64);
-    let mut cost = vec![UNREACHED; g.len()];
-    let mut parent = vec![NONE; g.len()];
-    let mut heap = BinaryHeap::new();
-    cost[source] = 0;
-    heap.push(Reverse((0u32, source)));
-    while let Some(Reverse((c, i))) = heap.pop() {
-        if c != cost[i] {
+    let mut label = vec![NONE; g.len()];
+    let mut stack = Vec::new();
+    let mut next = 0u32;
+    for start in 0..g.len() {
+        if !skeleton[start] || label[start] != NONE {
             continue;
         }
-        let (x, y) = ((i as i64) % w, (i as i64) / w);
-        for dy in -1..=1i64 {
-            for dx in -1..=1i64 {
-                let (nx, ny) = (x + dx, y + dy);
-                if (dx == 0 && dy == 0) || nx < 0 || ny < 0 || nx >= w || ny >= h {
-                    continue;
-                }
-                let j = (ny * w + nx) as usize;
-                if !skeleton[j] {
-                    continue;
-                }
-                let step = if dx != 0 && dy != 0 {
-                    if !passable[(y * w + nx) as usize] || !passable[(ny * w + x) as usize] {
+        label[start] = next;
+        stack.push(start);
+        while let Some(i) = stack.pop() {
+            let (x, y) = ((i as i64) % w, (i as i64) / w);
+            for dy in -1..=1i64 {
+                for dx in -1..=1i64 {
+                    let (nx, ny) = (x + dx, y + dy);
+                    if nx < 0 || ny < 0 || nx >= w || ny >= h {
                         continue;
                     }
-                    DIAGONAL
-                } else {
-                    STRAIGHT
-                };
-                let nc = c + step;
-                if nc < cost[j] {
-                    cost[j] = nc;
-                    parent[j] = i as u32;
-                    heap.push(Reverse((nc, j)));
+                    let j = (ny * w + nx) as usize;
+                    if !skeleton[j] || label[j] != NONE {
+                        continue;
+                    }
+                    if dx != 0
+                        && dy != 0
+                        && (!passable[(y * w + nx) as usize] || !passable[(ny * w + x) as usize])
+                    {
+                        continue;
+                    }
+                    label[j] = next;
+                    stack.push(j);
                 }
             }
         }
+        next += 1;
     }
-    (cost, parent)
+    label
 }
 
 /// String pulling: from each kept waypoint, jump to the farthest later cell with
@@ -485,6 +520,7 @@ fn pull(cells: &[Cell], clear: impl Fn(usize, usize) -> bool) -> Vec<Cell> {
 #[cfg(test)]
 mod tests {
     use super::super::path::shortcut_path;
+    use super::super::reach::{sweep, UNREACHED};
     use super::*;
     use crate::geom::Point;
     use proptest::prelude::*;
@@ -558,6 +594,24 @@ mod tests {
     }
 
     #[test]
+    fn separate_corridors_have_separate_edge_components() {
+        // A full wall splits the room into two corridors.
+        let map = room(60, 30, &[(30, 0, 2, 30)]);
+        let (_, d) = skeleton_of(&map, Cell::new(10, 15));
+        let g = map.geometry();
+        let parts = |xs: std::ops::Range<usize>| -> std::collections::BTreeSet<u32> {
+            (0..g.len())
+                .filter(|&i| d.skeleton[i] && xs.contains(&g.cell(i).x))
+                .map(|i| d.edge_component[i])
+                .collect()
+        };
+        let (left, right) = (parts(0..30), parts(32..60));
+        assert!(!left.is_empty() && !right.is_empty());
+        assert!(left.is_disjoint(&right), "{left:?} {right:?}");
+        assert!(!left.contains(&u32::MAX));
+    }
+
+    #[test]
     fn skeleton_passes_on_both_sides_of_a_pillar() {
         let map = room(60, 60, &[(25, 25, 10, 10)]);
         let (trav, d) = skeleton_of(&map, Cell::new(5, 5));
@@ -574,19 +628,25 @@ mod tests {
         assert!(col
             .iter()
             .all(|&y| (12..=13).contains(&y) || (46..=47).contains(&y)));
-        // The ring around the pillar is connected.
-        let (cost, _) = skeleton_dijkstra(
-            g,
-            &trav.passable,
-            &d.skeleton,
-            g.index(Cell::new(30, col[0])),
-        );
+        // The ring around the pillar is connected, by the steps a path takes.
+        let part = d.edge_component[g.index(Cell::new(30, col[0]))];
         for c in [
             Cell::new(30, *col.last().unwrap()),
             Cell::new(row[0], 30),
             Cell::new(*row.last().unwrap(), 30),
         ] {
-            assert_ne!(cost[g.index(c)], UNREACHED, "{c:?}");
+            assert_eq!(d.edge_component[g.index(c)], part, "{c:?}");
+            let open = |i: usize| trav.passable[i];
+            let ci = g.index(c);
+            let along = search(
+                g,
+                g.index(Cell::new(30, col[0])),
+                |i| d.skeleton[i],
+                open,
+                |i| i == ci,
+                |_| 0,
+            );
+            assert!(along.is_some(), "{c:?}");
         }
     }
 

@@ -1,0 +1,58 @@
+//! Times the planning step with children (`mission::plan_step`: Eq. 1, then the
+//! CPS cycles with AND regions, Eq. 2 placements, subgoals and Voronoi paths) on
+//! every knowledge map of an episode: the episode runs first and keeps each step's
+//! map and robot positions, then every step is planned again and timed.
+//!
+//! `cargo run --release -p cpsplan --example step_timing -- site 0 2`
+
+use std::time::Instant;
+
+use cpsplan::mission::plan_step;
+use cpsplan::world::builtin::BuiltinMap;
+use cpsplan::{run_episode_with, Config, OccupancyGrid, Point};
+
+fn main() -> Result<(), Box<dyn std::error::Error>> {
+    let mut args = std::env::args().skip(1);
+    let map: BuiltinMap = args.next().unwrap_or_else(|| "site".into()).parse()?;
+    let seed: u64 = args.next().map(|s| s.parse()).transpose()?.unwrap_or(0);
+    let children: usize = args.next().map(|s| s.parse()).transpose()?.unwrap_or(2);
+    let mut config = Config {
+        seed,
+        ..Config::default()
+    };
+    config.children.count = children;
+    let truth = map.generate(seed);
+    let mut states: Vec<(OccupancyGrid, Point, Vec<Point>)> = Vec::new();
+    let t0 = Instant::now();
+    let episode = run_episode_with(&truth, map.default_start(), &config, |step, known| {
+        states.push((known.clone(), step.position, step.children.clone()));
+    })?;
+    let episode_ms = t0.elapsed().as_secs_f64() * 1e3;
+    let mut times: Vec<f64> = Vec::with_capacity(states.len());
+    let mut retrieved = 0;
+    for (known, parent, kids) in &states {
+        let t = Instant::now();
+        let step = plan_step(known, *parent, kids, &config)?;
+        times.push(t.elapsed().as_secs_f64() * 1e3);
+        retrieved += usize::from(step.movement.subgoal_retrieval);
+    }
+    let mut sorted = times.clone();
+    sorted.sort_by(f64::total_cmp);
+    let pick = |q: f64| sorted[((sorted.len() - 1) as f64 * q).round() as usize];
+    println!(
+        "{} seed {seed}, {children} children: {} steps ({} with subgoals), episode {:.0} ms",
+        map.name(),
+        sorted.len(),
+        retrieved,
+        episode_ms
+    );
+    println!(
+        "planning step: median {:.1} ms, p90 {:.1} ms, max {:.1} ms, mean {:.1} ms",
+        pick(0.5),
+        pick(0.9),
+        pick(1.0),
+        times.iter().sum::<f64>() / times.len() as f64
+    );
+    let _ = episode.summary;
+    Ok(())
+}

@@ -1,0 +1,281 @@
+//! What the CPS planners of one step share: the maps derived from one knowledge
+//! map, computed once and reused by every cycle, subgoal and candidate of the step
+//! (sections IV-B to IV-D).
+//!
+//! - the children's [`Terrain`] (drivable cells and connected regions) and the
+//!   Generalized Voronoi Diagram they drive along;
+//! - the parent's terrain and diagram (the same ones when parent and children have
+//!   the same radius);
+//! - the certain views of the parent positions tried so far (a view is two
+//!   visibility sweeps' worth of work, and subgoal retrieval asks for the same
+//!   positions again and again);
+//! - the parent's Visibility Graph, built the first time a move needs subgoals.
+
+use std::cell::{OnceCell, RefCell};
+use std::collections::HashMap;
+use std::rc::Rc;
+use std::sync::Arc;
+
+use super::and_region::{seen_by_both, ChildReach, View};
+use super::cps_cycle::CycleParams;
+use super::distance::distance_transform;
+use super::reach::{sweep, UNREACHED};
+use super::terrain::Terrain;
+use super::traversability::clearance_metres;
+use super::visgraph::VisibilityGraph;
+use super::voronoi::{gvd, voronoi_path, Gvd};
+use super::{ParentReach, Traversability};
+use crate::geom::Cell;
+use crate::world::{CellState, OccupancyGrid};
+
+/// Views kept at most; the cache starts afresh beyond this (each view is one flag
+/// per cell of its range disc's bounding box).
+const MAX_VIEWS: usize = 256;
+
+/// Drivable cells with their Voronoi diagram.
+#[derive(Debug)]
+struct Roads {
+    terrain: Arc<Terrain>,
+    gvd: Gvd,
+}
+
+/// The maps of one planning step for a team on `knowledge`.
+#[derive(Debug)]
+pub struct CpsMaps<'k> {
+    knowledge: &'k OccupancyGrid,
+    params: CycleParams,
+    children: Roads,
+    /// The parent's roads when its radius differs from the children's.
+    parent: Option<Roads>,
+    views: RefCell<HashMap<Cell, Rc<View>>>,
+    own_terrain: RefCell<HashMap<Cell, ChildReach>>,
+    graph: OnceCell<VisibilityGraph>,
+    clearance: Vec<f32>,
+}
+
+/// The part of a step's [`CpsMaps`] that does not depend on the parent's planning
+/// round, so that it can be computed while that round runs: the Voronoi
+/// diagrams, the clearance field of Eq. (2), and the children's terrain when
+/// their radius differs from the parent's.
+#[derive(Debug)]
+pub struct Groundwork {
+    /// The children's terrain (only when their radius differs from the parent's;
+    /// otherwise the parent's terrain serves).
+    child_terrain: Option<Terrain>,
+    child_gvd: Gvd,
+    /// The parent's diagram when its radius differs from the children's.
+    parent_gvd: Option<Gvd>,
+    /// Per cell: metres to the nearest known Occupied cell.
+    clearance: Vec<f32>,
+}
+
+impl Groundwork {
+    /// The groundwork for a parent of `parent_radius` metres at `parent` and
+    /// children with `params`.
+    pub fn new(
+        knowledge: &OccupancyGrid,
+        parent: Cell,
+        parent_radius: f64,
+        params: &CycleParams,
+    ) -> Self {
+        let same = parent_radius == params.child_radius;
+        let ((child_terrain, child_gvd), (parent_gvd, clearance)) = rayon::join(
+            || {
+                if same {
+                    let trav = Traversability::new(knowledge, params.child_radius, parent);
+                    (None, gvd(knowledge, &trav))
+                } else {
+                    let t = Terrain::new(knowledge, params.child_radius, parent);
+                    let d = gvd(knowledge, &t.trav);
+                    (Some(t), d)
+                }
+            },
+            || {
+                let parent_gvd = (!same).then(|| {
+                    gvd(
+                        knowledge,
+                        &Traversability::new(knowledge, parent_radius, parent),
+                    )
+                });
+                (parent_gvd, clearance_field(knowledge))
+            },
+        );
+        Self {
+            child_terrain,
+            child_gvd,
+            parent_gvd,
+            clearance,
+        }
+    }
+}
+
+/// Metres from every cell to the nearest known Occupied cell, by the rule of
+/// [`super::Traversability::clearance_at`]: one exact distance transform.
+fn clearance_field(knowledge: &OccupancyGrid) -> Vec<f32> {
+    let k = knowledge.cells();
+    let g = knowledge.geometry();
+    let res = g.resolution;
+    distance_transform(g, |i| k[i] == CellState::Occupied)
+        .into_iter()
+        .map(|d| clearance_metres(d, res))
+        .collect()
+}
+
+impl<'k> CpsMaps<'k> {
+    /// The maps for a parent of `parent_radius` metres standing at `parent` and
+    /// children with `params`.
+    pub fn new(
+        knowledge: &'k OccupancyGrid,
+        parent: Cell,
+        parent_radius: f64,
+        params: &CycleParams,
+    ) -> Self {
+        let g = knowledge.geometry();
+        let (reach, groundwork) = rayon::join(
+            || {
+                let trav = Traversability::new(knowledge, parent_radius, parent);
+                let field = sweep(g, &trav.passable, &[g.index(parent)], UNREACHED);
+                ParentReach { trav, field }
+            },
+            || Groundwork::new(knowledge, parent, parent_radius, params),
+        );
+        Self::assemble(knowledge, reach, groundwork, params)
+    }
+
+    /// The maps from what the parent's planning round computed (`reach`) and the
+    /// `groundwork` computed for the same knowledge map, parent position and radii.
+    pub fn assemble(
+        knowledge: &'k OccupancyGrid,
+        reach: ParentReach,
+        groundwork: Groundwork,
+        params: &CycleParams,
+    ) -> Self {
+        let parent_terrain = Arc::new(Terrain::from_sweep(reach.trav, &reach.field));
+        let Groundwork {
+            child_terrain,
+            child_gvd,
+            parent_gvd,
+            clearance,
+        } = groundwork;
+        let (children, parent) = match (child_terrain, parent_gvd) {
+            (Some(t), Some(pg)) => (
+                Roads {
+                    terrain: Arc::new(t),
+                    gvd: child_gvd,
+                },
+                Some(Roads {
+                    terrain: parent_terrain,
+                    gvd: pg,
+                }),
+            ),
+            _ => (
+                Roads {
+                    terrain: parent_terrain,
+                    gvd: child_gvd,
+                },
+                None,
+            ),
+        };
+        Self {
+            knowledge,
+            params: *params,
+            children,
+            parent,
+            views: RefCell::default(),
+            own_terrain: RefCell::default(),
+            graph: OnceCell::new(),
+            clearance,
+        }
+    }
+
+    /// Metres from the centre of cell `index` to the nearest known Occupied cell,
+    /// by the rule of [`super::Traversability::clearance_at`] (the `1/P` of Eq. 2).
+    pub fn clearance_m(&self, index: usize) -> f64 {
+        self.clearance[index] as f64
+    }
+
+    /// The knowledge map.
+    pub fn knowledge(&self) -> &'k OccupancyGrid {
+        self.knowledge
+    }
+
+    /// The cycle parameters.
+    pub fn params(&self) -> &CycleParams {
+        &self.params
+    }
+
+    /// The children's terrain.
+    pub fn child_terrain(&self) -> &Terrain {
+        &self.children.terrain
+    }
+
+    /// The parent's terrain.
+    pub fn parent_terrain(&self) -> &Terrain {
+        &self.parent_roads().terrain
+    }
+
+    fn parent_roads(&self) -> &Roads {
+        self.parent.as_ref().unwrap_or(&self.children)
+    }
+
+    /// Where a child standing at `child` can drive: the shared terrain, or a
+    /// terrain of its own when it stands on no passable cell of the shared one
+    /// (then its own escape region applies).
+    pub fn reach(&self, child: Cell) -> ChildReach {
+        let g = self.knowledge.geometry();
+        if let Some(r) = ChildReach::on(&self.children.terrain, g, child) {
+            return r;
+        }
+        self.own_terrain
+            .borrow_mut()
+            .entry(child)
+            .or_insert_with(|| ChildReach::new(self.knowledge, child, self.params.child_radius))
+            .clone()
+    }
+
+    /// The cells in certain line of sight from `from` within the link range
+    /// ([`View`]), cached.
+    pub fn view(&self, from: Cell) -> Rc<View> {
+        if let Some(v) = self.views.borrow().get(&from) {
+            return Rc::clone(v);
+        }
+        let v = Rc::new(View::new(self.knowledge, from, self.params.link));
+        let mut views = self.views.borrow_mut();
+        if views.len() >= MAX_VIEWS {
+            views.clear();
+        }
+        views.insert(from, Rc::clone(&v));
+        v
+    }
+
+    /// Cells in certain line of sight from both parent positions within range
+    /// ([`super::and_region::mutual_view`]), ascending grid indices.
+    pub fn mutual_view(&self, parent_from: Cell, parent_to: Cell) -> Vec<u32> {
+        let (a, b) = (self.view(parent_from), self.view(parent_to));
+        seen_by_both(self.knowledge.geometry(), &a, &b)
+    }
+
+    /// A child's path along the Voronoi edges ([`voronoi_path`]).
+    pub fn child_path(&self, from: Cell, to: Cell) -> Option<Vec<Cell>> {
+        let terrain = self.reach(from).terrain;
+        voronoi_path(self.knowledge, &terrain.trav, &self.children.gvd, from, to)
+    }
+
+    /// The parent's path along the Voronoi edges ([`voronoi_path`]).
+    pub fn parent_path(&self, from: Cell, to: Cell) -> Option<Vec<Cell>> {
+        let roads = self.parent_roads();
+        voronoi_path(self.knowledge, &roads.terrain.trav, &roads.gvd, from, to)
+    }
+
+    /// The children's Voronoi diagram.
+    pub fn child_gvd(&self) -> &Gvd {
+        &self.children.gvd
+    }
+
+    /// The parent's Visibility Graph (section IV-C step 2), built on first use.
+    pub fn visibility_graph(&self) -> &VisibilityGraph {
+        self.graph.get_or_init(|| {
+            VisibilityGraph::build(self.knowledge, &self.parent_roads().terrain.trav)
+        })
+    }
+}
