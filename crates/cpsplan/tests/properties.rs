@@ -6,7 +6,7 @@ use cpsplan::geom::{Cell, Point};
 use cpsplan::planning::line::segment_clear;
 use cpsplan::sensing::{expected_gain, scan};
 use cpsplan::world::{CellState, GridGeometry, OccupancyGrid};
-use cpsplan::{run_episode, Config};
+use cpsplan::{run_episode, run_episode_with, Config};
 use proptest::prelude::*;
 
 /// A random map: solid border, random rectangles of wall, free elsewhere.
@@ -202,10 +202,15 @@ proptest! {
 
     /// With children, every CPS cycle keeps each child in certain line of sight of
     /// both parent positions, within the link's range limits, on the knowledge map
-    /// and on the ground truth; every robot's path stays on free cells.
+    /// the cycle was planned on and on the ground truth; each child stands in its
+    /// AND region (so every subgoal leg has one); every robot's path keeps the
+    /// robot's radius clear of true obstacles (outside the escape region of its
+    /// start).
     #[test]
     fn cps_cycles_keep_their_links(truth in map_strategy(), pick in 0usize..10_000, seed in 0u64..1000) {
+        use cpsplan::mission::cycle_and_regions;
         use cpsplan::planning::and_region::{certain_view, LinkRange};
+        use cpsplan::planning::Traversability;
         let free = free_cells(&truth);
         prop_assume!(!free.is_empty());
         let g = *truth.geometry();
@@ -214,31 +219,47 @@ proptest! {
         config.scanner.range = 4.0;
         config.children.count = 2;
         config.mission.max_scans = 20;
-        let episode = run_episode(&truth, start, &config, |_| {}).unwrap();
-        let k = episode.knowledge.as_ref().unwrap();
-        let link = LinkRange { min: config.children.min_range, max: config.scanner.range };
+        // A short link range in half the cases, so that long moves need subgoals.
+        if seed % 2 == 0 {
+            config.children.max_range = Some(2.5);
+        }
+        let mut known = Vec::new();
+        let episode = run_episode_with(&truth, start, &config, |_, k| known.push(k.clone())).unwrap();
+        let link = LinkRange {
+            min: config.children.min_range,
+            max: config.children.max_range.unwrap_or(config.scanner.range),
+        };
         let cell = |p: Point| g.world_to_cell(p).unwrap();
+        let metres = |a: Point, b: Point| (a.x - b.x).hypot(a.y - b.y);
         // Every move between two scans ran as at least one CPS cycle.
         prop_assert!(episode.summary.cps_cycles + 1 >= episode.summary.scans);
-        for step in &episode.steps {
+        let clear_of_truth = |path: &[Point], radius: f64| {
+            let Some(&first) = path.first() else { return true };
+            let trav = Traversability::new(&truth, radius, cell(first));
+            path.windows(2).all(|l| segment_clear(&g, cell(l[0]), cell(l[1]), |i| trav.passable[i]))
+        };
+        for (step, k) in episode.steps.iter().zip(&known) {
             for cycle in &step.movement.cycles {
                 let (from, to) = (cell(cycle.parent_from), cell(cycle.parent_to));
-                for child in &cycle.children {
+                let regions = cycle_and_regions(k, cycle, &config);
+                for (child, region) in cycle.children.iter().zip(&regions) {
                     let c = cell(child.to);
+                    prop_assert!(region[g.index(c)], "child at {:?} outside its AND region", c);
+                    prop_assert!(child.stays || child.and_region_cells > 0);
+                    for p in [cycle.parent_from, cycle.parent_to] {
+                        let d = metres(g.cell_center(c), p);
+                        prop_assert!(d >= link.min - 1e-9 && d <= link.max + 1e-9, "link {} m", d);
+                    }
                     for grid in [k, &truth] {
                         let view = certain_view(grid, c, link);
                         prop_assert!(view[g.index(from)] && view[g.index(to)],
                             "child at {:?} does not see {:?} and {:?}", c, from, to);
                     }
-                    for leg in child.path.windows(2) {
-                        prop_assert!(segment_clear(&g, cell(leg[0]), cell(leg[1]),
-                            |i| k.cells()[i] == CellState::Free));
-                    }
+                    prop_assert!(clear_of_truth(&child.path, config.children.radius),
+                        "child path {:?}", child.path);
                 }
-                for leg in cycle.parent_path.windows(2) {
-                    prop_assert!(segment_clear(&g, cell(leg[0]), cell(leg[1]),
-                        |i| k.cells()[i] == CellState::Free));
-                }
+                prop_assert!(clear_of_truth(&cycle.parent_path, config.robot.radius),
+                    "parent path {:?}", cycle.parent_path);
             }
         }
     }

@@ -2,18 +2,25 @@
 //! move to its target as CPS cycles (paper Fig. 1), with subgoals when needed
 //! (section IV-C) and the next candidate when even that fails.
 
+use std::sync::Arc;
+
 use serde::{Deserialize, Serialize};
 
 use crate::config::Config;
 use crate::geom::{polyline_length, Cell, Point};
 use crate::planning::and_region::LinkRange;
+use crate::planning::and_region::{and_region, mutual_view, ChildReach};
 use crate::planning::children::Eq2;
 use crate::planning::cps_cycle::{CpsCycle, CycleParams};
 use crate::planning::cps_maps::{CpsMaps, Groundwork};
 use crate::planning::path::to_world;
 use crate::planning::reach::{sweep, UNREACHED};
-use crate::planning::subgoals::{plan_move_in, MoveError};
-use crate::planning::{plan_parent_with_reach, ParentPlan, ParentReach, Traversability};
+use crate::planning::subgoals::{plan_move_in, MoveError, MovePlan};
+use crate::planning::terrain::Terrain;
+use crate::planning::{
+    plan_parent_with_reach, relocated_candidate, ParentPlan, ParentReach, Traversability,
+};
+use crate::sensing::expected_gain;
 use crate::world::OccupancyGrid;
 use rand_chacha::ChaCha8Rng;
 
@@ -75,7 +82,9 @@ pub struct MoveRecord {
 
 /// The AND region of every child of a recorded cycle, recomputed on the knowledge
 /// map the cycle was planned on: per child, a mask over the grid's cells (row-major)
-/// of where that child could have stood (section IV-B). For pictures and checks.
+/// of where that child could have stood (section IV-B). The children's terrain is
+/// taken with the parent at `parent_from`, as the planner takes it with the parent
+/// where the step began. For pictures and checks.
 pub fn cycle_and_regions(
     knowledge: &OccupancyGrid,
     cycle: &CycleRecord,
@@ -89,18 +98,16 @@ pub fn cycle_and_regions(
     ) else {
         return vec![vec![false; g.len()]; cycle.children.len()];
     };
-    let mutual = crate::planning::and_region::mutual_view(knowledge, from, to, params.link);
+    let mutual = mutual_view(knowledge, from, to, params.link);
+    let terrain = Arc::new(Terrain::new(knowledge, params.child_radius, from));
     cycle
         .children
         .iter()
         .map(|c| match g.world_to_cell(c.from) {
             Some(cell) => {
-                let reach = crate::planning::and_region::ChildReach::new(
-                    knowledge,
-                    cell,
-                    params.child_radius,
-                );
-                crate::planning::and_region::and_region(&mutual, &reach).to_mask(g.len())
+                let reach = ChildReach::on(&terrain, g, cell)
+                    .unwrap_or_else(|| ChildReach::new(knowledge, cell, params.child_radius));
+                and_region(&mutual, &reach).to_mask(g.len())
             }
             None => vec![false; g.len()],
         })
@@ -191,16 +198,30 @@ pub struct Moved {
     pub child_lengths: Vec<f64>,
 }
 
+/// How far from a candidate no CPS move can reach a relocated target may lie,
+/// metres.
+pub const RELOCATE_RADIUS_M: f64 = 3.0;
+/// Spacing of the cells tried around such a candidate, metres.
+pub const RELOCATE_SPACING_M: f64 = 0.3;
+/// Relocated targets tried at most per candidate, best expected gain first.
+pub const RELOCATE_TRIES: usize = 12;
+
 /// Moves the parent from `here` to the best reachable candidate of `plan` by CPS
 /// cycles, trying the eligible candidates in decreasing `G`; `reach` is what the
 /// planning round computed for the parent, `groundwork` what [`plan_round`]
-/// computed alongside it (computed here if `None`). Returns the record and
-/// where the robots ended up; `None` when no candidate can be reached.
+/// computed alongside it (computed here if `None`).
+///
+/// When no candidate can be reached (the paper's planner would stop here), each
+/// eligible candidate in turn is *relocated*: drivable cells within
+/// [`RELOCATE_RADIUS_M`] of it that still expect `min_gain_cells` new cells are
+/// tried, best gain first, and the first one a CPS move reaches is appended to
+/// `plan.candidates` (origin `Relocated`) and taken. Returns the record and where
+/// the robots ended up; `None` when nothing can be reached.
 pub fn execute_move(
     knowledge: &OccupancyGrid,
     here: Cell,
     children: &[Cell],
-    plan: &ParentPlan,
+    plan: &mut ParentPlan,
     reach: ParentReach,
     groundwork: Option<Groundwork>,
     config: &Config,
@@ -219,35 +240,10 @@ pub fn execute_move(
             .then(a.cmp(&b))
     });
     let mut record = MoveRecord::default();
-    for index in order {
+    for &index in &order {
         let target = plan.candidates[index].cell;
         match plan_move_in(&maps, here, target, children) {
-            Ok(m) => {
-                record.target = Some(index);
-                record.subgoal_retrieval = m.retrieved;
-                let mut parent_len = 0.0;
-                let mut child_len = vec![0.0; children.len()];
-                for cycle in &m.cycles {
-                    let (rec, plen) = cycle_record(&maps, cycle);
-                    parent_len += plen;
-                    for (l, c) in child_len.iter_mut().zip(&rec.children) {
-                        *l += polyline_length(&c.path);
-                    }
-                    record.cycles.push(rec);
-                }
-                let kids = m
-                    .cycles
-                    .last()
-                    .map(|c| c.children.iter().map(|k| k.to).collect())
-                    .unwrap_or_else(|| children.to_vec());
-                let moved = Moved {
-                    parent: target,
-                    children: kids,
-                    parent_length: parent_len,
-                    child_lengths: child_len,
-                };
-                return (record, Some(moved));
-            }
+            Ok(m) => return finish(&maps, record, index, target, children, &m),
             Err(e) => record.rejected.push(RejectedTarget {
                 candidate: index,
                 reason: match e {
@@ -257,7 +253,102 @@ pub fn execute_move(
             }),
         }
     }
+    for &index in &order {
+        for cell in relocations(&maps, plan.candidates[index].cell, config) {
+            if let Ok(m) = plan_move_in(&maps, here, cell, children) {
+                let terrain = maps.parent_terrain();
+                let c = relocated_candidate(
+                    knowledge,
+                    cell,
+                    &plan.candidates[index],
+                    &terrain.trav,
+                    maps.parent_field(),
+                    config,
+                );
+                plan.candidates.push(c);
+                let new = plan.candidates.len() - 1;
+                return finish(&maps, record, new, cell, children, &m);
+            }
+        }
+    }
     (record, None)
+}
+
+/// The record and the robots' new places after the planned move `m` to `target`
+/// (candidate `index`).
+fn finish(
+    maps: &CpsMaps,
+    mut record: MoveRecord,
+    index: usize,
+    target: Cell,
+    children: &[Cell],
+    m: &MovePlan,
+) -> (MoveRecord, Option<Moved>) {
+    record.target = Some(index);
+    record.subgoal_retrieval = m.retrieved;
+    let mut parent_len = 0.0;
+    let mut child_len = vec![0.0; children.len()];
+    for cycle in &m.cycles {
+        let (rec, plen) = cycle_record(maps, cycle);
+        parent_len += plen;
+        for (l, c) in child_len.iter_mut().zip(&rec.children) {
+            *l += polyline_length(&c.path);
+        }
+        record.cycles.push(rec);
+    }
+    let kids = m
+        .cycles
+        .last()
+        .map(|c| c.children.iter().map(|k| k.to).collect())
+        .unwrap_or_else(|| children.to_vec());
+    let moved = Moved {
+        parent: target,
+        children: kids,
+        parent_length: parent_len,
+        child_lengths: child_len,
+    };
+    (record, Some(moved))
+}
+
+/// Cells to try instead of `candidate`: drivable for the parent and reachable
+/// from where it stands, on a lattice of [`RELOCATE_SPACING_M`] within
+/// [`RELOCATE_RADIUS_M`], expecting at least `min_gain_cells` new cells; the
+/// [`RELOCATE_TRIES`] with the largest expected gain (ties: nearest first).
+fn relocations(maps: &CpsMaps, candidate: Cell, config: &Config) -> Vec<Cell> {
+    let knowledge = maps.knowledge();
+    let g = knowledge.geometry();
+    let terrain = maps.parent_terrain();
+    let step = (RELOCATE_SPACING_M / g.resolution).round().max(1.0) as i64;
+    let reach = (RELOCATE_RADIUS_M / g.resolution).floor() as i64;
+    let mut found: Vec<(usize, i64, Cell)> = Vec::new();
+    for dy in (-reach..=reach).step_by(step as usize) {
+        for dx in (-reach..=reach).step_by(step as usize) {
+            let d2 = dx * dx + dy * dy;
+            if d2 == 0 || d2 > reach * reach {
+                continue;
+            }
+            let (x, y) = (candidate.x as i64 + dx, candidate.y as i64 + dy);
+            if x < 0 || y < 0 || x >= g.width as i64 || y >= g.height as i64 {
+                continue;
+            }
+            let cell = Cell::new(x as usize, y as usize);
+            let i = g.index(cell);
+            if !terrain.trav.traversable[i] || terrain.region_of(i).is_none() {
+                continue;
+            }
+            let need = config.parent.min_gain_cells;
+            let s = expected_gain(knowledge, cell, config.range_cells(), usize::MAX);
+            if s >= need {
+                found.push((s, d2, cell));
+            }
+        }
+    }
+    found.sort_by(|a, b| b.0.cmp(&a.0).then(a.1.cmp(&b.1)).then(a.2.cmp(&b.2)));
+    found
+        .into_iter()
+        .take(RELOCATE_TRIES)
+        .map(|(_, _, c)| c)
+        .collect()
 }
 
 /// The record of a cycle with the parent's Voronoi path, and that path's length.

@@ -7,7 +7,9 @@
 
 mod cps;
 
-pub use cps::{cycle_and_regions, ChildMove, CycleRecord, MoveRecord, RejectedTarget};
+pub use cps::{
+    cycle_and_regions, cycle_params, ChildMove, CycleRecord, MoveRecord, RejectedTarget,
+};
 
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
@@ -225,14 +227,17 @@ pub fn plan_step(
     let mut config = *config;
     config.children.count = kids.len();
     let mut rng = ChaCha8Rng::seed_from_u64(config.seed);
-    let (plan, reach, groundwork) = cps::plan_round(knowledge, here, &config, &mut rng);
+    let (mut plan, reach, groundwork) = cps::plan_round(knowledge, here, &config, &mut rng);
     let movement = match plan.decision {
         Decision::Target { index } if kids.is_empty() => MoveRecord {
             target: Some(index),
             ..MoveRecord::default()
         },
         Decision::Target { .. } => {
-            cps::execute_move(knowledge, here, &kids, &plan, reach, groundwork, &config).0
+            cps::execute_move(
+                knowledge, here, &kids, &mut plan, reach, groundwork, &config,
+            )
+            .0
         }
         _ => MoveRecord::default(),
     };
@@ -295,7 +300,7 @@ pub fn run_episode_with(
         if steps.is_empty() && config.children.count > 0 {
             children = cps::initial_children(&knowledge, here, config);
         }
-        let (plan, reach, groundwork) = cps::plan_round(&knowledge, here, config, &mut rng);
+        let (mut plan, reach, groundwork) = cps::plan_round(&knowledge, here, config, &mut rng);
         let at_limit = steps.len() + 1 >= config.mission.max_scans;
         let (movement, moved) = match plan.decision {
             Decision::Target { index } => {
@@ -313,7 +318,7 @@ pub fn run_episode_with(
                     (record, Some(moved))
                 } else {
                     cps::execute_move(
-                        &knowledge, here, &children, &plan, reach, groundwork, config,
+                        &knowledge, here, &children, &mut plan, reach, groundwork, config,
                     )
                 }
             }

@@ -19,7 +19,7 @@ use std::sync::Arc;
 use super::and_region::{seen_by_both, ChildReach, View};
 use super::cps_cycle::CycleParams;
 use super::distance::distance_transform;
-use super::reach::{sweep, UNREACHED};
+use super::reach::{sweep, DistanceField, UNREACHED};
 use super::terrain::Terrain;
 use super::traversability::clearance_metres;
 use super::visgraph::VisibilityGraph;
@@ -51,6 +51,8 @@ pub struct CpsMaps<'k> {
     own_terrain: RefCell<HashMap<Cell, ChildReach>>,
     graph: OnceCell<VisibilityGraph>,
     clearance: Vec<f32>,
+    /// The parent's travel distances from where the step began.
+    parent_field: DistanceField,
 }
 
 /// The part of a step's [`CpsMaps`] that does not depend on the parent's planning
@@ -150,7 +152,8 @@ impl<'k> CpsMaps<'k> {
         groundwork: Groundwork,
         params: &CycleParams,
     ) -> Self {
-        let parent_terrain = Arc::new(Terrain::from_sweep(reach.trav, &reach.field));
+        let ParentReach { trav, field } = reach;
+        let parent_terrain = Arc::new(Terrain::from_sweep(trav, &field));
         let Groundwork {
             child_terrain,
             child_gvd,
@@ -185,7 +188,13 @@ impl<'k> CpsMaps<'k> {
             own_terrain: RefCell::default(),
             graph: OnceCell::new(),
             clearance,
+            parent_field: field,
         }
+    }
+
+    /// The parent's travel distances from where the step began.
+    pub fn parent_field(&self) -> &DistanceField {
+        &self.parent_field
     }
 
     /// Metres from the centre of cell `index` to the nearest known Occupied cell,

@@ -22,7 +22,7 @@ pub mod visgraph;
 pub mod voronoi;
 
 pub use parent::{
-    plan_parent, plan_parent_with_reach, Candidate, CandidateOrigin, Decision, ParentPlan,
-    ParentReach,
+    plan_parent, plan_parent_with_reach, relocated_candidate, Candidate, CandidateOrigin, Decision,
+    ParentPlan, ParentReach,
 };
 pub use traversability::Traversability;

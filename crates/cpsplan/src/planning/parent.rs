@@ -36,6 +36,9 @@ pub enum CandidateOrigin {
     Snapped,
     /// Found by the reachable-frontier search after every centroid failed.
     Fallback,
+    /// A cell near a candidate that no CPS move could reach, taken instead of it
+    /// (see `mission`); it keeps that candidate's `G`.
+    Relocated,
 }
 
 /// One candidate target of the parent with the terms of Eq. (1).
@@ -319,6 +322,34 @@ fn new_candidate(
 }
 
 /// The raw Eq. (1) terms of a candidate whose `s_cells` is already known.
+/// The candidate at `cell` that stands in for `original` when no CPS move can
+/// reach `original`: its own `R`, `P`, `L` and `S` (Eq. 1 terms, from the parent's
+/// drivable cells `trav` and travel distances `field` of the same planning
+/// round), `original`'s `G` and cluster.
+pub fn relocated_candidate(
+    knowledge: &OccupancyGrid,
+    cell: Cell,
+    original: &Candidate,
+    trav: &Traversability,
+    field: &DistanceField,
+    config: &Config,
+) -> Candidate {
+    let g = *knowledge.geometry();
+    let mut c = new_candidate(
+        cell,
+        original.centroid,
+        CandidateOrigin::Relocated,
+        original.cluster_size,
+        &g,
+    );
+    c.s_cells = expected_gain(knowledge, cell, config.range_cells(), usize::MAX);
+    let t = candidate_terms(&c, &g, trav, field, config);
+    fill_terms(&mut c, t);
+    c.g = original.g;
+    c.eligible = c.r == 1 && c.s_cells >= config.parent.min_gain_cells;
+    c
+}
+
 fn candidate_terms(
     c: &Candidate,
     g: &GridGeometry,

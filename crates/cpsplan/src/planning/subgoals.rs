@@ -84,16 +84,30 @@ pub fn plan_move_in(
     }
     // Step 2.
     let trav = &maps.parent_terrain().trav;
-    let path = maps
+    let corners = maps
         .visibility_graph()
         .shortest_path(maps.knowledge().geometry(), trav, from, to)
         .ok_or(MoveError::NoPath)?;
+    let link = maps.params().link;
+    let path = densify(
+        &corners,
+        subgoal_spacing(link.max, maps.knowledge().geometry().resolution),
+    );
+    // No cell is within range of two parent positions more than twice the range
+    // apart.
+    let too_far = |a: Cell, b: Cell| {
+        let (dx, dy) = (a.x as f64 - b.x as f64, a.y as f64 - b.y as f64);
+        dx.hypot(dy) * maps.knowledge().geometry().resolution > 2.0 * link.max
+    };
     // Steps 3–8.
     let mut cycles = Vec::new();
     let mut here = 0;
     let mut kids: Vec<Cell> = children.to_vec();
     while here + 1 < path.len() {
         let next = (here + 1..path.len()).rev().find_map(|j| {
+            if too_far(path[here], path[j]) {
+                return None;
+            }
             place_cycle(maps, path[here], path[j], &kids, &reach)
                 .ok()
                 .map(|c| (j, c))
@@ -107,6 +121,39 @@ pub fn plan_move_in(
         here = j;
     }
     drive(cycles, true)
+}
+
+/// Spacing, in cells, of the extra subgoals on a straight Visibility Graph leg: a
+/// quarter of the link range (at least one cell), so that a leg longer than the
+/// instrument reaches still offers subgoals every few metres.
+fn subgoal_spacing(link_max: f64, resolution: f64) -> f64 {
+    (link_max / 4.0 / resolution).max(1.0)
+}
+
+/// The path's corners with extra points on every straight leg longer than
+/// `spacing` cells, evenly spaced: the candidate subgoals of steps 3–7. Each
+/// point is the cell the segment between the corners' centres passes through, so
+/// it is as drivable as the leg.
+fn densify(corners: &[Cell], spacing: f64) -> Vec<Cell> {
+    let mut out: Vec<Cell> = Vec::with_capacity(corners.len());
+    for leg in corners.windows(2) {
+        let (a, b) = (leg[0], leg[1]);
+        out.push(a);
+        let (dx, dy) = (b.x as f64 - a.x as f64, b.y as f64 - a.y as f64);
+        let parts = (dx.hypot(dy) / spacing).ceil() as usize;
+        for k in 1..parts {
+            let t = k as f64 / parts as f64;
+            let cell = Cell::new(
+                (a.x as f64 + 0.5 + t * dx).floor() as usize,
+                (a.y as f64 + 0.5 + t * dy).floor() as usize,
+            );
+            if out.last() != Some(&cell) && cell != b {
+                out.push(cell);
+            }
+        }
+    }
+    out.extend(corners.last());
+    out
 }
 
 #[cfg(test)]
@@ -134,6 +181,49 @@ mod tests {
             }
             for c in &cycle.children {
                 let sees = certain_view(&k, c.to, link);
+                assert!(sees[g.index(cycle.parent_from)] && sees[g.index(cycle.parent_to)]);
+            }
+        }
+    }
+
+    #[test]
+    fn long_legs_get_subgoals_on_the_segment() {
+        let corners = [Cell::new(0, 0), Cell::new(100, 0), Cell::new(100, 30)];
+        let path = densify(&corners, 25.0);
+        assert_eq!(path.first(), Some(&corners[0]));
+        assert_eq!(path.last(), Some(&corners[2]));
+        assert!(path.contains(&corners[1]));
+        for l in path.windows(2) {
+            let d = (l[0].x as f64 - l[1].x as f64).hypot(l[0].y as f64 - l[1].y as f64);
+            assert!(d > 0.0 && d <= 25.0, "{l:?}");
+        }
+        assert!(path.iter().all(|c| c.y == 0 || c.x == 100));
+    }
+
+    #[test]
+    fn a_leg_longer_than_twice_the_range_is_split() {
+        // A straight corridor 40 m long, link range 8 m: no single cycle can do it.
+        let g = crate::world::GridGeometry::new(420, 30, 0.1, crate::geom::Point::default());
+        let mut k = crate::world::OccupancyGrid::filled(g, CellState::Occupied);
+        k.fill_rect(5, 5, 415, 25, CellState::Free);
+        let mut p = params();
+        p.link.max = 8.0;
+        let (from, to) = (Cell::new(10, 15), Cell::new(410, 15));
+        let plan = plan_move(
+            &k,
+            from,
+            to,
+            &[Cell::new(30, 10), Cell::new(30, 20)],
+            0.25,
+            &p,
+        )
+        .unwrap();
+        assert!(plan.retrieved);
+        assert!(plan.cycles.len() >= 3, "{} cycles", plan.cycles.len());
+        assert_eq!(plan.cycles.last().unwrap().parent_to, to);
+        for cycle in &plan.cycles {
+            for c in &cycle.children {
+                let sees = certain_view(&k, c.to, p.link);
                 assert!(sees[g.index(cycle.parent_from)] && sees[g.index(cycle.parent_to)]);
             }
         }
