@@ -1,4 +1,5 @@
-//! Command-line interface: argument parsing and the `explore` and `maps` commands.
+//! Command-line interface: argument parsing and the `explore`, `maps` and `plan`
+//! commands.
 
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -8,11 +9,11 @@ use clap::{Args, Parser, Subcommand, ValueEnum};
 use cpsplan::config::Scoring;
 use cpsplan::world::builtin::BuiltinMap;
 use cpsplan::world::{default_start, resample_conservative};
-use cpsplan::{run_episode, Config, OccupancyGrid, Point};
+use cpsplan::{run_episode_with, Config, OccupancyGrid, Point};
 use indicatif::{ProgressBar, ProgressStyle};
 
 use crate::formats::rosmap::{load_any, save_map};
-use crate::render::render_map;
+use crate::render::{render_map, render_step, StepView};
 use crate::report::{write_atomic, write_episode_outputs, MapSource};
 
 /// Scan planning for a cooperative multi-robot laser-scanning team (CPS-SLAM).
@@ -57,6 +58,10 @@ pub struct PlanArgs {
     /// Seed of the planner's random choices.
     #[arg(long, value_name = "N")]
     pub seed: Option<u64>,
+    /// Also draw the planned step as a PNG figure (map, candidates, AND regions,
+    /// subgoals, every robot's path) into this file.
+    #[arg(long, value_name = "FILE.png")]
+    pub figure: Option<PathBuf>,
 }
 
 /// Options of `cpsplan explore`.
@@ -101,10 +106,14 @@ pub struct ExploreArgs {
     /// Seed of every random choice (and of the built-in map's layout).
     #[arg(long, value_name = "N")]
     pub seed: Option<u64>,
+    /// Draw the planning step after scan N as `step-NNN.png` in the output
+    /// directory (repeat the flag or give a comma list: 2,5,9).
+    #[arg(long, value_name = "N", value_delimiter = ',', value_parser = parse_scan_number)]
+    pub step_figure: Vec<usize>,
     /// Output directory.
     #[arg(long, value_name = "DIR", default_value = "out")]
     pub out: PathBuf,
-    /// Print nothing but errors.
+    /// Print nothing but errors and warnings.
     #[arg(long, short)]
     pub quiet: bool,
 }
@@ -143,6 +152,18 @@ fn parse_point(s: &str) -> Result<Point, String> {
     Ok(Point::new(num(x)?, num(y)?))
 }
 
+fn parse_scan_number(s: &str) -> Result<usize, String> {
+    match s.trim().parse::<usize>() {
+        Ok(n) if n >= 1 => Ok(n),
+        _ => Err(format!("expected a scan number (1, 2, ...), got `{s}`")),
+    }
+}
+
+/// The file name of the figure of the step after scan `n`: `step-007.png`.
+pub fn step_figure_name(n: usize) -> String {
+    format!("step-{n:03}.png")
+}
+
 /// Parses the process arguments and runs the command.
 pub fn run() -> Result<()> {
     match Cli::parse().command {
@@ -177,6 +198,16 @@ fn plan(args: &PlanArgs) -> Result<()> {
     let grid = load_any(&args.known, config.resolution)?;
     let known = resample_conservative(&grid, config.resolution);
     let step = cpsplan::mission::plan_step(&known, args.parent, &args.children, &config)?;
+    if let Some(path) = &args.figure {
+        let view = StepView::planned(&step, args.parent, &args.children);
+        let name = args.known.file_name().map_or_else(
+            || args.known.display().to_string(),
+            |n| n.to_string_lossy().into_owned(),
+        );
+        let title = format!("cpsplan plan \u{2014} {name}");
+        let png = render_step(&known, &view, &config, &title)?;
+        write_atomic(path, &png)?;
+    }
     let mut out = serde_json::to_string_pretty(&step)?;
     out.push('\n');
     use std::io::Write as _;
@@ -263,7 +294,9 @@ fn explore(args: &ExploreArgs) -> Result<()> {
         bar
     };
     let t0 = Instant::now();
-    let episode = run_episode(&truth, start, &config, |step| {
+    let mut figures: Vec<(usize, Vec<u8>)> = Vec::new();
+    let mut figure_error = None;
+    let episode = run_episode_with(&truth, start, &config, |step, knowledge| {
         bar.set_message(format!(
             "scan {} · coverage {:.1} % · walls {:.1} %",
             step.scan,
@@ -271,10 +304,39 @@ fn explore(args: &ExploreArgs) -> Result<()> {
             step.wall_coverage * 100.0
         ));
         bar.tick();
+        if figure_error.is_none() && args.step_figure.contains(&step.scan) {
+            let title = format!("cpsplan step {} \u{2014} {}", step.scan, source.label());
+            match render_step(knowledge, &StepView::from(step), &config, &title) {
+                Ok(png) => figures.push((step.scan, png)),
+                Err(e) => figure_error = Some((step.scan, e)),
+            }
+        }
     })?;
     let wall_ms = t0.elapsed().as_secs_f64() * 1e3;
     bar.finish_and_clear();
+    if let Some((scan, e)) = figure_error {
+        bail!("cannot draw the figure of step {scan}: {e}");
+    }
     write_episode_outputs(&args.out, &truth, &source, &episode, wall_ms)?;
+    for (scan, png) in &figures {
+        write_atomic(&args.out.join(step_figure_name(*scan)), png)?;
+    }
+    let scans = episode.steps.len();
+    let mut missing: Vec<usize> = args
+        .step_figure
+        .iter()
+        .copied()
+        .filter(|&n| n > scans)
+        .collect();
+    missing.sort_unstable();
+    missing.dedup();
+    for n in missing {
+        eprintln!(
+            "warning: --step-figure {n}: the episode has {scans} scan{}, no {} written",
+            if scans == 1 { "" } else { "s" },
+            step_figure_name(n)
+        );
+    }
     if !args.quiet {
         let s = &episode.summary;
         println!(

@@ -378,3 +378,135 @@ fn plan_rejects_bad_robots_and_reports_nothing_to_scan() {
         assert!(!err.contains("panicked"));
     }
 }
+
+/// Decodes a PNG file and returns its size.
+fn png_size(path: &Path) -> (u32, u32) {
+    let bytes = std::fs::read(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    let pic = tiny_skia::Pixmap::decode_png(&bytes).expect("a valid PNG");
+    (pic.width(), pic.height())
+}
+
+#[test]
+fn explore_draws_requested_step_figures_and_warns_beyond_the_end() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("steps");
+    let result = cpsplan()
+        .args([
+            "explore",
+            "--builtin",
+            "site",
+            "--children",
+            "2",
+            "--max-scans",
+            "4",
+            "--step-figure",
+            "2",
+            "--step-figure",
+            "9,2",
+            "--quiet",
+            "--out",
+        ])
+        .arg(&out)
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&result.stderr);
+    assert!(result.status.success(), "{err}");
+    let (w, h) = png_size(&out.join("step-002.png"));
+    assert!(w >= 800 && h >= 800, "{w} x {h}");
+    // Only the requested steps are drawn; the one beyond the episode warns once.
+    let figures: Vec<String> = std::fs::read_dir(&out)
+        .unwrap()
+        .filter_map(|e| {
+            let name = e.ok()?.file_name().to_string_lossy().into_owned();
+            name.starts_with("step-").then_some(name)
+        })
+        .collect();
+    assert_eq!(figures, ["step-002.png"]);
+    let warnings: Vec<&str> = err.lines().filter(|l| l.contains("warning")).collect();
+    assert_eq!(warnings.len(), 1, "{err}");
+    assert!(
+        warnings[0].contains("--step-figure 9") && warnings[0].contains("4 scans"),
+        "{err}"
+    );
+    assert!(out.join("map.png").is_file());
+}
+
+#[test]
+fn step_figure_numbers_must_be_scan_numbers() {
+    for bad in ["0", "two", "2,,3", "1.5"] {
+        let tmp = tempfile::tempdir().unwrap();
+        let out = tmp.path().join("out");
+        let result = cpsplan()
+            .args(["explore", "--quiet", "--step-figure", bad, "--out"])
+            .arg(&out)
+            .output()
+            .unwrap();
+        assert_eq!(result.status.code(), Some(2), "{bad}");
+        let err = String::from_utf8_lossy(&result.stderr);
+        assert!(err.contains("scan number"), "{bad}: {err}");
+        assert!(!out.exists());
+    }
+}
+
+#[test]
+fn plan_figure_writes_a_png() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("first");
+    cpsplan()
+        .args([
+            "explore",
+            "--builtin",
+            "office",
+            "--children",
+            "2",
+            "--max-scans",
+            "1",
+            "--quiet",
+            "--out",
+        ])
+        .arg(&out)
+        .assert()
+        .success();
+    let ep: Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("episode.json")).unwrap()).unwrap();
+    let step = &ep["steps"][0];
+    let xy = |p: &Value| format!("{},{}", p["x"].as_f64().unwrap(), p["y"].as_f64().unwrap());
+    let figure = tmp.path().join("plan.png");
+    let result = cpsplan()
+        .args(["plan", "--known"])
+        .arg(out.join("knowledge.yaml"))
+        .args(["--parent", &xy(&ep["start"])])
+        .args(["--child", &xy(&step["children"][0])])
+        .args(["--child", &xy(&step["children"][1])])
+        .arg("--figure")
+        .arg(&figure)
+        .output()
+        .unwrap();
+    assert!(
+        result.status.success(),
+        "{}",
+        String::from_utf8_lossy(&result.stderr)
+    );
+    // The plan is still printed, and the figure is a picture.
+    let plan: Value = serde_json::from_slice(&result.stdout).unwrap();
+    assert!(plan["move"]["cycles"][0].is_object(), "{plan}");
+    let (w, h) = png_size(&figure);
+    assert!(w >= 800 && h >= 800, "{w} x {h}");
+    // An unwritable figure path is a clean error.
+    let bad = tmp.path().join("no-such-dir").join("plan.png");
+    let result = cpsplan()
+        .args(["plan", "--known"])
+        .arg(out.join("knowledge.yaml"))
+        .args(["--parent", &xy(&ep["start"])])
+        .args(["--child", &xy(&step["children"][0])])
+        .arg("--figure")
+        .arg(&bad)
+        .output()
+        .unwrap();
+    assert_eq!(result.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&result.stderr);
+    assert!(
+        err.contains("plan.png") && !err.contains("panicked"),
+        "{err}"
+    );
+}

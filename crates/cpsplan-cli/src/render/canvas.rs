@@ -1,7 +1,9 @@
 //! The drawing surface: an opaque RGBA pixmap with direct, allocation-free fills for
 //! rectangles and bitmap text, and anti-aliased vector drawing through tiny-skia.
 
-use tiny_skia::{FillRule, LineCap, LineJoin, Paint, Path, PathBuilder, Pixmap, Stroke, Transform};
+use tiny_skia::{
+    FillRule, LineCap, LineJoin, Paint, Path, PathBuilder, Pixmap, Stroke, StrokeDash, Transform,
+};
 
 use super::RenderError;
 
@@ -13,6 +15,19 @@ impl Rgb {
     /// From `0xRRGGBB`.
     pub const fn hex(v: u32) -> Self {
         Self((v >> 16) as u8, (v >> 8) as u8, v as u8)
+    }
+
+    /// This colour blended over `under` with opacity `alpha` (0–255).
+    pub fn over(self, under: Rgb, alpha: u8) -> Rgb {
+        let a = u32::from(alpha);
+        let mix = |src: u8, dst: u8| {
+            ((u32::from(src) * a + u32::from(dst) * (255 - a) + 127) / 255) as u8
+        };
+        Rgb(
+            mix(self.0, under.0),
+            mix(self.1, under.1),
+            mix(self.2, under.2),
+        )
     }
 
     /// A tiny-skia paint of this colour with opacity `alpha`, anti-aliased.
@@ -163,6 +178,19 @@ impl Canvas {
             .stroke_path(path, &paint, &stroke, Transform::identity(), None);
     }
 
+    /// Strokes a path with dashes `dash` pixels long and as far apart, butt caps.
+    pub fn stroke_dashed(&mut self, path: &Path, c: Rgb, alpha: u8, width: f32, dash: f32) {
+        let stroke = Stroke {
+            width,
+            line_cap: LineCap::Butt,
+            line_join: LineJoin::Round,
+            dash: StrokeDash::new(vec![dash, dash], 0.0),
+            ..Stroke::default()
+        };
+        self.pixmap
+            .stroke_path(path, &c.paint(alpha), &stroke, Transform::identity(), None);
+    }
+
     /// Fills a circle (anti-aliased).
     pub fn fill_circle(&mut self, cx: f32, cy: f32, r: f32, c: Rgb, alpha: u8) {
         if let Some(path) = PathBuilder::from_circle(cx, cy, r) {
@@ -266,17 +294,22 @@ pub(crate) fn fit_text(text: &str, scale: u32, max_width: i64) -> String {
 }
 
 /// The 8×8 bitmap of a character: rows top to bottom, bit 0 the leftmost pixel.
-/// Basic Latin and Latin-1 come from font8x8; a few common typographic characters
+/// Basic Latin, Latin-1 and Greek come from font8x8; a few common typographic characters
 /// fall back to ASCII look-alikes, anything else shows as '?'.
 fn glyph(c: char) -> [u8; 8] {
-    use font8x8::legacy::{BASIC_LEGACY, LATIN_LEGACY};
+    use font8x8::legacy::{BASIC_LEGACY, GREEK_LEGACY, LATIN_LEGACY};
     let u = c as u32;
     match u {
         0x20..=0x7e => BASIC_LEGACY[u as usize],
         0xa0..=0xff => LATIN_LEGACY[(u - 0xa0) as usize],
+        // The font's lowercase theta is an x-height "e" look-alike: the capital
+        // reads as the angle the captions mean.
+        0x3b8 => GREEK_LEGACY[0x398 - 0x390],
+        0x390..=0x3c9 => GREEK_LEGACY[(u - 0x390) as usize],
         _ => {
             let fallback = match c {
                 '\u{2010}'..='\u{2015}' | '\u{2212}' => '-',
+                '\u{2192}' => '>',
                 '\u{2018}' | '\u{2019}' => '\'',
                 '\u{201c}' | '\u{201d}' => '"',
                 '\u{2022}' | '\u{22c5}' => return LATIN_LEGACY[0x17],
@@ -293,7 +326,7 @@ mod tests {
 
     #[test]
     fn glyphs_cover_the_summary_characters() {
-        for c in "0123456789%.·×:abcXYZ".chars() {
+        for c in "0123456789%.·×:abcXYZθα°".chars() {
             assert_ne!(glyph(c), [0; 8], "{c:?}");
         }
         assert_eq!(glyph('\u{4e00}'), glyph('?'));

@@ -14,15 +14,27 @@ pub(crate) enum Swatch {
     Cell(Rgb),
     /// A short stroke with an arrowhead.
     Line(Rgb),
+    /// A short thin dashed stroke.
+    Dashed(Rgb),
     /// A scan marker.
     Dot(Rgb),
+    /// A small marker (candidates that may not be chosen).
+    SmallDot(Rgb),
+    /// A marker of colour `.0` in a dark ring (the chosen target).
+    Ring(Rgb),
+    /// A marker of colour `.0` struck through (a rejected target).
+    Cross(Rgb),
+    /// A subgoal marker.
+    Subgoal,
+    /// A colour ramp, low to high, left to right.
+    Ramp(&'static [Rgb]),
 }
 
 /// One legend entry.
 #[derive(Debug, Clone)]
-pub(crate) struct LegendItem {
+pub(crate) struct LegendItem<'a> {
     pub swatch: Swatch,
-    pub label: &'static str,
+    pub label: &'a str,
 }
 
 /// Sizes derived from the text scale `g` (1 for small pictures, 2 for large).
@@ -75,9 +87,11 @@ impl Style {
         8 * self.gi() + 2
     }
 
-    fn legend_item_width(self, item: &LegendItem) -> i64 {
+    fn legend_item_width(self, item: &LegendItem<'_>) -> i64 {
         let swatch = match item.swatch {
-            Swatch::Line(_) => 3 * self.swatch_size(),
+            Swatch::Line(_) | Swatch::Dashed(_) => 3 * self.swatch_size(),
+            Swatch::Ramp(_) => 5 * self.swatch_size(),
+            Swatch::Ring(_) | Swatch::Cross(_) => self.swatch_size() + 4 * self.gi(),
             _ => self.swatch_size(),
         };
         swatch + 4 * self.gi() + text_width(item.label, self.g)
@@ -92,7 +106,7 @@ impl Style {
 pub(crate) struct Header<'a> {
     pub title: &'a str,
     pub lines: Vec<String>,
-    pub legend: Vec<LegendItem>,
+    pub legend: Vec<LegendItem<'a>>,
 }
 
 impl Header<'_> {
@@ -207,11 +221,124 @@ fn draw_swatch(canvas: &mut Canvas, style: Style, swatch: Swatch, x: i64, cy: i6
             draw_arrowhead(canvas, style, ((x0 + x1) / 2.0 + 4.0, yc), (1.0, 0.0), c);
             w
         }
+        Swatch::Dashed(c) => {
+            let w = 3 * s;
+            let mut pb = PathBuilder::new();
+            pb.move_to(x as f32 + 1.0, cy as f32);
+            pb.line_to((x + w) as f32 - 1.0, cy as f32);
+            if let Some(path) = pb.finish() {
+                canvas.stroke_dashed(&path, c, 255, 1.5, 5.0 * style.g as f32);
+            }
+            w
+        }
         Swatch::Dot(c) => {
             let r = style.marker_radius();
             draw_marker(canvas, x as f32 + s as f32 / 2.0, cy as f32, r, c);
             s
         }
+        Swatch::SmallDot(c) => {
+            let r = style.marker_radius() * 0.6;
+            draw_marker(canvas, x as f32 + s as f32 / 2.0, cy as f32, r, c);
+            s
+        }
+        Swatch::Ring(c) => {
+            let w = s + 4 * style.gi();
+            let (mx, my) = (x as f32 + w as f32 / 2.0, cy as f32);
+            let r = style.marker_radius();
+            draw_marker(canvas, mx, my, r, c);
+            draw_ring(canvas, style, mx, my, r);
+            w
+        }
+        Swatch::Cross(c) => {
+            let w = s + 4 * style.gi();
+            let (mx, my) = (x as f32 + w as f32 / 2.0, cy as f32);
+            let r = style.marker_radius();
+            draw_marker(canvas, mx, my, r, c);
+            draw_cross(canvas, style, mx, my, r);
+            w
+        }
+        Swatch::Subgoal => {
+            draw_subgoal(canvas, style, x as f32 + s as f32 / 2.0, cy as f32);
+            s
+        }
+        Swatch::Ramp(stops) => {
+            let w = 5 * s;
+            let h = s * 3 / 4;
+            let y = cy - h / 2;
+            for i in 0..w {
+                let t = i as f64 / (w - 1).max(1) as f64;
+                canvas.fill_rect(x + i, y, 1, h, ramp(stops, t));
+            }
+            canvas.outline_rect(x, y, w, h, palette::SWATCH_EDGE);
+            w
+        }
+    }
+}
+
+/// The colour at `t` in [0, 1] along a ramp of evenly spaced `stops` (linear
+/// interpolation in sRGB; `t` is clamped, NaN gives the first stop).
+pub(crate) fn ramp(stops: &[Rgb], t: f64) -> Rgb {
+    let Some(&first) = stops.first() else {
+        return palette::TEXT;
+    };
+    if stops.len() == 1 || t.is_nan() {
+        return first;
+    }
+    let x = t.clamp(0.0, 1.0) * (stops.len() - 1) as f64;
+    let i = (x.floor() as usize).min(stops.len() - 2);
+    let f = x - i as f64;
+    let (a, b) = (stops[i], stops[i + 1]);
+    let mix = |p: u8, q: u8| (f64::from(p) + (f64::from(q) - f64::from(p)) * f).round() as u8;
+    Rgb(mix(a.0, b.0), mix(a.1, b.1), mix(a.2, b.2))
+}
+
+/// The dark ring around the chosen target's marker of radius `r`.
+pub(crate) fn draw_ring(canvas: &mut Canvas, style: Style, cx: f32, cy: f32, r: f32) {
+    if let Some(path) = PathBuilder::from_circle(cx, cy, r + 2.5 + style.line_width()) {
+        canvas.stroke_path(&path, Rgb::hex(0xffffff), 255, style.line_width() + 2.0);
+        canvas.stroke_path(&path, palette::TEXT, 255, style.line_width());
+    }
+}
+
+/// A cross over a marker of radius `r` (a rejected target).
+pub(crate) fn draw_cross(canvas: &mut Canvas, style: Style, cx: f32, cy: f32, r: f32) {
+    let d = r + 2.5;
+    let mut pb = PathBuilder::new();
+    pb.move_to(cx - d, cy - d);
+    pb.line_to(cx + d, cy + d);
+    pb.move_to(cx - d, cy + d);
+    pb.line_to(cx + d, cy - d);
+    if let Some(path) = pb.finish() {
+        canvas.stroke_path(&path, Rgb::hex(0xffffff), 255, style.line_width() + 2.0);
+        canvas.stroke_path(&path, palette::REJECTED, 255, style.line_width());
+    }
+}
+
+/// Half the width of a subgoal marker.
+pub(crate) fn subgoal_radius(style: Style) -> f32 {
+    style.marker_radius()
+}
+
+/// A subgoal marker: a diamond with a white rim.
+pub(crate) fn draw_subgoal(canvas: &mut Canvas, style: Style, cx: f32, cy: f32) {
+    let diamond = |r: f32| {
+        let mut pb = PathBuilder::new();
+        pb.move_to(cx, cy - r);
+        pb.line_to(cx + r, cy);
+        pb.line_to(cx, cy + r);
+        pb.line_to(cx - r, cy);
+        pb.close();
+        pb.finish()
+    };
+    let r = subgoal_radius(style);
+    if let Some(path) = diamond(r + 3.2) {
+        canvas.fill_path(&path, palette::OCCUPIED, 110);
+    }
+    if let Some(path) = diamond(r + 2.2) {
+        canvas.fill_path(&path, Rgb::hex(0xffffff), 255);
+    }
+    if let Some(path) = diamond(r) {
+        canvas.fill_path(&path, palette::SUBGOAL, 255);
     }
 }
 
@@ -246,6 +373,31 @@ pub(crate) fn draw_arrowhead(
     if let Some(path) = pb.finish() {
         canvas.stroke_path(&path, Rgb::hex(0xffffff), 200, 1.5);
         canvas.fill_path(&path, c, 255);
+    }
+}
+
+/// An arrowhead of colour `c` halfway along the polyline `leg` (canvas pixels), if
+/// the leg is long enough to carry one.
+pub(crate) fn draw_arrow_midway(canvas: &mut Canvas, style: Style, leg: &[(f32, f32)], c: Rgb) {
+    let lw = style.line_width();
+    let seg_len = |w: &[(f32, f32)]| (w[1].0 - w[0].0).hypot(w[1].1 - w[0].1);
+    let total: f32 = leg.windows(2).map(seg_len).sum();
+    if total.is_nan() || total < 16.0 * lw {
+        return;
+    }
+    let mut rest = total / 2.0;
+    for w in leg.windows(2) {
+        let l = seg_len(w);
+        if l <= 0.0 {
+            continue;
+        }
+        if rest <= l {
+            let (dx, dy) = ((w[1].0 - w[0].0) / l, (w[1].1 - w[0].1) / l);
+            let at = (w[0].0 + dx * rest, w[0].1 + dy * rest);
+            draw_arrowhead(canvas, style, at, (dx, dy), c);
+            return;
+        }
+        rest -= l;
     }
 }
 

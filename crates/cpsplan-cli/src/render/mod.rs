@@ -2,7 +2,11 @@
 //!
 //! - [`render_episode`]: the final knowledge map of a simulated episode with what was
 //!   missed tinted, the parent's trajectory, numbered scan positions, a header with
-//!   title, summary and legend, and a scale bar.
+//!   title, summary and legend, and a scale bar; with children, their paths and
+//!   the subgoals of every move that needed them.
+//! - [`render_step`]: one planning step after the paper's Figs. 5–7 (candidates by
+//!   score, AND regions, subgoals, every robot's path and the CPS lines of sight),
+//!   on a window of the knowledge map the step planned on.
 //! - [`render_map`]: a plain preview of an occupancy grid.
 //!
 //! Pictures are drawn in the grid frame (row 0 at the bottom, so north is up for an
@@ -15,6 +19,10 @@
 mod canvas;
 mod chrome;
 mod episode;
+mod placer;
+mod step;
+
+pub use self::step::{render_step, StepView};
 
 use cpsplan::world::CoverageTracker;
 use cpsplan::{CellState, Episode, GridGeometry, OccupancyGrid, Point, StopReason};
@@ -105,6 +113,22 @@ pub(crate) mod palette {
     pub const RULE: Rgb = Rgb::hex(0xc4cad2);
     /// Outline of legend swatches and label boxes.
     pub const SWATCH_EDGE: Rgb = Rgb::hex(0x8a939e);
+    /// Subgoals retrieved on the Visibility Graph, and the graph path through them.
+    pub const SUBGOAL: Rgb = Rgb::hex(0x0b2e59);
+    /// AND regions (section IV-B), blended over the map.
+    pub const AND_REGION: Rgb = Rgb::hex(0x2ca02c);
+    /// Targets the CPS move gave up.
+    pub const REJECTED: Rgb = Rgb::hex(0xd62728);
+    /// Candidates that may not be chosen.
+    pub const INELIGIBLE: Rgb = Rgb::hex(0x9aa3ad);
+    /// The ramp of candidate scores `G`, low to high.
+    pub const SCORE_RAMP: [Rgb; 5] = [
+        Rgb::hex(0xfee391),
+        Rgb::hex(0xfdb14f),
+        Rgb::hex(0xf2712b),
+        Rgb::hex(0xcf3a1c),
+        Rgb::hex(0x8c1a0f),
+    ];
 }
 
 /// What a map pixel shows, in increasing order of salience.
@@ -282,6 +306,16 @@ struct Frame {
 impl Frame {
     /// Lays the picture out around a map of `geometry` and draws header and footer.
     fn new(geometry: &GridGeometry, header: &Header<'_>) -> Result<Self, RenderError> {
+        Self::with_info(geometry, header, geometry_info(geometry))
+    }
+
+    /// [`Frame::new`] with `info` right-aligned in the footer instead of the grid's
+    /// size.
+    fn with_info(
+        geometry: &GridGeometry,
+        header: &Header<'_>,
+        info: String,
+    ) -> Result<Self, RenderError> {
         let mut layout = MapLayout::new(geometry);
         let style = Style::for_map(layout.width_px.max(layout.height_px));
         let m = style.margin();
@@ -292,7 +326,7 @@ impl Frame {
         let footer = Footer {
             metres_per_px: layout.metres_per_px(),
             map_width_px: layout.width_px,
-            info: geometry_info(geometry),
+            info,
         };
         let height = header_h + m + layout.height_px + footer.height(style);
         let too_large = || RenderError::TooLarge {
@@ -394,9 +428,11 @@ fn draw_map(grid: &OccupancyGrid, title: &str) -> Result<Frame, RenderError> {
 /// `episode.knowledge`. The picture shows the final knowledge map (free white,
 /// occupied near-black, unknown grey) with reachable free cells that were never seen
 /// tinted light orange and never-seen walls bordering them a darker orange; the
-/// parent's driven paths with direction arrows; every scan position numbered in
-/// order (start green, last red); a header with `title`, the episode's summary and a
-/// legend; and a scale bar. Without a knowledge map the ground truth is drawn.
+/// parent's driven paths with direction arrows; the children's paths; every scan
+/// position numbered in order (start green, last red); the intermediate subgoals of
+/// every driven move that retrieved them (section IV-C) as small dark diamonds; a
+/// header with `title`, the episode's summary and a legend; and a scale bar. Without
+/// a knowledge map the ground truth is drawn.
 pub fn render_episode(
     truth: &OccupancyGrid,
     episode: &Episode,
@@ -466,6 +502,12 @@ fn draw_episode(
         legend.push(LegendItem {
             swatch: Swatch::Line(palette::CHILDREN[i]),
             label,
+        });
+    }
+    if !episode::subgoals(episode).is_empty() {
+        legend.push(LegendItem {
+            swatch: Swatch::Subgoal,
+            label: "subgoal",
         });
     }
     legend.extend([

@@ -240,3 +240,314 @@ fn scale_keeps_the_longer_side_near_1600_px() {
         assert_eq!(l.width_px, px, "{cells} cells");
     }
 }
+
+// ---------------------------------------------------------------------------------
+// Step figures and subgoal markers.
+
+use cpsplan::mission::{CycleRecord, Step};
+use cpsplan::world::builtin::BuiltinMap;
+
+use self::step::{and_region_colour, draw_step, score_colour, StepView, Window};
+
+/// The first `scans` steps of the built-in site with two children, each with the
+/// knowledge map it planned on.
+fn site_steps(scans: usize) -> (Config, Vec<(Step, OccupancyGrid)>) {
+    let mut config = Config::default();
+    config.children.count = 2;
+    config.mission.max_scans = scans;
+    let truth = BuiltinMap::Site.generate(0);
+    let mut steps = Vec::new();
+    cpsplan::run_episode_with(
+        &truth,
+        BuiltinMap::Site.default_start(),
+        &config,
+        |step, knowledge| steps.push((step.clone(), knowledge.clone())),
+    )
+    .expect("episode runs");
+    (config, steps)
+}
+
+/// Every marker position a step figure draws, canvas pixels.
+fn marker_pixels(layout: &MapLayout, step: &Step) -> Vec<(f32, f32)> {
+    let mut points: Vec<Point> = step.plan.candidates.iter().map(|c| c.position).collect();
+    points.push(step.position);
+    points.extend(step.children.iter().copied());
+    for cycle in &step.movement.cycles {
+        points.push(cycle.parent_to);
+        points.extend(cycle.children.iter().flat_map(|c| [c.from, c.to]));
+    }
+    points.iter().map(|&p| layout.world_to_px(p)).collect()
+}
+
+#[test]
+fn step_figure_shows_and_regions_and_scored_candidates() {
+    let (config, steps) = site_steps(3);
+    let (step, knowledge) = &steps[1];
+    assert_eq!(step.scan, 2);
+    assert!(
+        !step.movement.cycles.is_empty(),
+        "step 2 moved by no CPS cycle"
+    );
+    let view = StepView::from(step);
+    let fig = draw_step(knowledge, &view, &config, "step 2").unwrap();
+    let png = render_step(knowledge, &view, &config, "step 2").unwrap();
+    let pic = Pixmap::decode_png(&png).unwrap();
+    let canvas = &fig.frame.canvas.pixmap;
+    assert_eq!(
+        (pic.width(), pic.height()),
+        (canvas.width(), canvas.height())
+    );
+
+    // The window holds the parent, its target and every cycle, and is drawn at the
+    // scale of the other pictures (longer side about 1600 px).
+    let layout = fig.frame.layout;
+    let w = fig.window;
+    let g = *knowledge.geometry();
+    let target = &step.plan.candidates[step.movement.target.unwrap()];
+    for p in [step.position, target.position] {
+        let c = g.world_to_cell(p).unwrap();
+        assert!((w.x0..w.x1).contains(&c.x) && (w.y0..w.y1).contains(&c.y));
+    }
+    // Early in the run the site is only partly known: the window is a part of it.
+    assert!((w.x1 - w.x0) * (w.y1 - w.y0) < g.len() / 2, "{w:?}");
+    let longest = layout.width_px.max(layout.height_px);
+    assert!((1400..=2000).contains(&longest), "{longest} px");
+    assert_eq!(
+        layout.width_px as usize,
+        (w.x1 - w.x0) * layout.px_per_cell / layout.cells_per_px
+    );
+    assert!(pic.width() as i64 > layout.width_px && pic.height() as i64 > layout.height_px);
+
+    // The AND region: known-free cells inside it are tinted, those outside are not.
+    let cell_px = |i: usize| {
+        let ww = w.x1 - w.x0;
+        let c = Cell::new(w.x0 + i % ww, w.y0 + i / ww);
+        (c, layout.world_to_px(g.cell_center(c)))
+    };
+    let markers = marker_pixels(&layout, step);
+    let clear_of_markers =
+        |p: (f32, f32)| markers.iter().all(|m| (m.0 - p.0).hypot(m.1 - p.1) > 30.0);
+    let (mut inside, mut tinted, mut outside, mut wrongly) = (0, 0, 0, 0);
+    let tint = and_region_colour(1);
+    for (i, &level) in fig.levels.iter().enumerate() {
+        let (cell, (x, y)) = cell_px(i);
+        if knowledge.get(cell) != CellState::Free || !clear_of_markers((x, y)) {
+            continue;
+        }
+        let here = rgb_at(&pic, x, y);
+        if level == 1 {
+            inside += 1;
+            tinted += usize::from(close(here, tint, 0));
+        } else if level == 0 {
+            outside += 1;
+            wrongly += usize::from(close(here, tint, 0));
+        }
+    }
+    assert!(inside > 1000, "{inside} free cells in the AND region");
+    assert!(
+        tinted * 10 >= inside * 9,
+        "{tinted} of {inside} AND-region cells tinted"
+    );
+    assert!(outside > 1000);
+    assert!(wrongly * 200 <= outside, "{wrongly} cells tinted outside");
+    // The tint is the one the legend shows, and differs from free space.
+    assert_ne!(tint, palette::FREE);
+
+    // Candidates: a marker of the score's colour at every eligible candidate clear
+    // of the other markers; the scores span the ramp.
+    let eligible: Vec<&cpsplan::planning::Candidate> =
+        step.plan.candidates.iter().filter(|c| c.eligible).collect();
+    let lo = eligible.iter().map(|c| c.g).fold(f64::INFINITY, f64::min);
+    let hi = eligible
+        .iter()
+        .map(|c| c.g)
+        .fold(f64::NEG_INFINITY, f64::max);
+    assert!(hi > lo, "all candidates score alike");
+    let mut checked = Vec::new();
+    for c in &eligible {
+        let (x, y) = layout.world_to_px(c.position);
+        let others = markers
+            .iter()
+            .filter(|m| (m.0 - x).hypot(m.1 - y) < 25.0)
+            .count();
+        if others > 1 {
+            continue;
+        }
+        let colour = score_colour(c.g, lo, hi);
+        assert!(
+            close(rgb_at(&pic, x, y), colour, 3),
+            "candidate G {} at {:?}: {:?} is not {colour:?}",
+            c.g,
+            c.position,
+            rgb_at(&pic, x, y)
+        );
+        checked.push(colour);
+    }
+    assert!(
+        checked.len() >= 2,
+        "only {} candidates checked",
+        checked.len()
+    );
+    assert!(checked.iter().any(|&c| c != checked[0]));
+    // The target is ringed in dark text colour.
+    let (tx, ty) = layout.world_to_px(target.position);
+    let ring = style_ring_radius(fig.frame.style);
+    assert!(near(&pic, tx + ring, ty, 1, palette::TEXT));
+}
+
+/// Where the target's ring runs, pixels from the marker's centre.
+fn style_ring_radius(style: chrome::Style) -> f32 {
+    style.marker_radius() + 2.5 + style.line_width()
+}
+
+/// A step whose single cycle is split in two at a point of the parent's path, as if
+/// a subgoal had been retrieved there; returns the subgoal.
+fn with_subgoal(step: &mut Step) -> Point {
+    let cycle = step.movement.cycles[0].clone();
+    let mid = cycle.parent_path[cycle.parent_path.len() / 2];
+    let first = CycleRecord {
+        parent_to: mid,
+        parent_path: cycle.parent_path[..=cycle.parent_path.len() / 2].to_vec(),
+        ..cycle.clone()
+    };
+    let second = CycleRecord {
+        parent_from: mid,
+        parent_path: cycle.parent_path[cycle.parent_path.len() / 2..].to_vec(),
+        ..cycle
+    };
+    step.movement.cycles = vec![first, second];
+    step.movement.subgoal_retrieval = true;
+    mid
+}
+
+#[test]
+fn step_figure_numbers_subgoals_and_tints_later_cycles_lighter() {
+    let (config, steps) = site_steps(2);
+    let (mut step, knowledge) = steps[0].clone();
+    assert!(!step.movement.cycles.is_empty());
+    let subgoal = with_subgoal(&mut step);
+    let fig = draw_step(&knowledge, &StepView::from(&step), &config, "subgoal").unwrap();
+    let pic = &fig.frame.canvas.pixmap;
+    let (x, y) = fig.frame.layout.world_to_px(subgoal);
+    assert!(close(rgb_at(pic, x, y), palette::SUBGOAL, 3));
+    // Both cycles have AND regions; the second's own cells are lighter.
+    assert!(fig.levels.contains(&1) && fig.levels.contains(&2));
+    let (c1, c2) = (and_region_colour(1), and_region_colour(2));
+    let darkness = |c: Rgb| 765 - (u32::from(c.0) + u32::from(c.1) + u32::from(c.2));
+    assert!(darkness(c1) > darkness(c2) && darkness(c2) > 0);
+}
+
+#[test]
+fn step_figure_without_children_draws_the_planned_path() {
+    let truth = two_rooms();
+    let mut config = Config::default();
+    config.scanner.range = 3.0;
+    config.children.count = 0;
+    let mut captured = None;
+    cpsplan::run_episode_with(&truth, Point::new(1.55, 6.05), &config, |step, k| {
+        if captured.is_none() && step.plan.path.len() >= 2 {
+            captured = Some((step.clone(), k.clone()));
+        }
+    })
+    .unwrap();
+    let (step, knowledge) = captured.expect("a step with a path");
+    let fig = draw_step(&knowledge, &StepView::from(&step), &config, "alone").unwrap();
+    // A small map is drawn whole.
+    assert_eq!(fig.window, Window::whole_of(knowledge.geometry()));
+    assert!(fig.levels.iter().all(|&l| l == 0));
+    let path = &step.plan.path;
+    let seg = path
+        .windows(2)
+        .max_by(|a, b| a[0].distance(a[1]).total_cmp(&b[0].distance(b[1])))
+        .unwrap();
+    let mid = Point::new((seg[0].x + seg[1].x) / 2.0, (seg[0].y + seg[1].y) / 2.0);
+    let (mx, my) = fig.frame.layout.world_to_px(mid);
+    assert!(near(
+        &fig.frame.canvas.pixmap,
+        mx,
+        my,
+        1,
+        palette::TRAJECTORY
+    ));
+}
+
+#[test]
+fn step_window_crops_large_maps_around_the_action() {
+    let g = GridGeometry::new(2000, 1500, 0.1, Point::new(-10.0, 5.0));
+    let pts = [(100.0, 100.0), (300.0, 180.0)];
+    let w = Window::around(&g, pts.into_iter(), None, 4.0, 20.0);
+    // 4 m (40 cells) of margin around the 200 × 80 cells of points; the height
+    // grown to the 20 m minimum about the points' centre.
+    assert_eq!((w.x0, w.y0, w.x1, w.y1), (60, 40, 340, 240));
+    // A tall group of points: the width grown to 1.25 times the height.
+    let tall = [(500.0, 500.0), (520.0, 800.0)];
+    let w = Window::around(&g, tall.into_iter(), None, 4.0, 20.0);
+    assert_eq!((w.y0, w.y1), (460, 840));
+    assert_eq!((w.x0, w.x1), (272, 748));
+    // Widened only as far as the margin beyond the known part of the map.
+    let known = Window {
+        x0: 450,
+        y0: 400,
+        x1: 600,
+        y1: 900,
+    };
+    let w = Window::around(&g, tall.into_iter(), Some(known), 4.0, 20.0);
+    assert_eq!((w.x0, w.x1, w.y0, w.y1), (410, 640, 460, 840));
+    // Near an edge the window is shifted inside the grid, and kept landscape.
+    let corner = [(5.0, 5.0), (50.0, 120.0)];
+    let w = Window::around(&g, corner.into_iter(), None, 4.0, 20.0);
+    assert_eq!((w.x0, w.y0), (0, 0));
+    assert!(
+        w.y1 >= 160 && w.x1 as f64 >= 1.25 * w.y1 as f64 - 1.0,
+        "{w:?}"
+    );
+    assert!(w.x1 as f64 <= 1.8 * w.y1 as f64 + 1.0);
+    // Spread over most of the map: the whole map.
+    let spread = [(10.0, 10.0), (1990.0, 1490.0)];
+    assert_eq!(
+        Window::around(&g, spread.into_iter(), None, 4.0, 20.0),
+        Window::whole_of(&g)
+    );
+    // Nothing finite to frame: the whole map.
+    let none = [(f64::NAN, 1.0)];
+    assert_eq!(
+        Window::around(&g, none.into_iter(), None, 4.0, 20.0),
+        Window::whole_of(&g)
+    );
+}
+
+#[test]
+fn episode_picture_marks_intermediate_subgoals() {
+    let mut config = Config::default();
+    config.children.count = 2;
+    config.mission.max_scans = 3;
+    let truth = BuiltinMap::Site.generate(0);
+    let mut ep = run_episode(&truth, BuiltinMap::Site.default_start(), &config, |_| {})
+        .expect("episode runs");
+    assert_eq!(ep.steps.len(), 3);
+    let subgoal = with_subgoal(&mut ep.steps[0]);
+    // The last step's move is not driven: its subgoals are not drawn.
+    let unused = with_subgoal(&mut ep.steps[2]);
+    assert_eq!(episode::subgoals(&ep), vec![subgoal]);
+    let frame = draw_episode(&truth, &ep, "subgoals").unwrap();
+    let (x, y) = frame.layout.world_to_px(subgoal);
+    assert!(close(
+        rgb_at(&frame.canvas.pixmap, x, y),
+        palette::SUBGOAL,
+        3
+    ));
+    let (x, y) = frame.layout.world_to_px(unused);
+    assert!(!near(&frame.canvas.pixmap, x, y, 2, palette::SUBGOAL));
+}
+
+#[test]
+fn score_ramp_runs_from_pale_to_dark() {
+    let lo = score_colour(1.0, 1.0, 5.0);
+    let hi = score_colour(5.0, 1.0, 5.0);
+    assert_eq!(lo, palette::SCORE_RAMP[0]);
+    assert_eq!(hi, palette::SCORE_RAMP[4]);
+    assert_eq!(score_colour(3.0, 1.0, 5.0), palette::SCORE_RAMP[2]);
+    // Equal scores take the top colour; out-of-range scores are clamped.
+    assert_eq!(score_colour(2.0, 2.0, 2.0), palette::SCORE_RAMP[4]);
+    assert_eq!(score_colour(-9.0, 1.0, 5.0), palette::SCORE_RAMP[0]);
+}
