@@ -4,6 +4,10 @@
 //!
 //! `cargo bench -p cpsplan --bench planning`
 //!
+//! The `site_team` group times the planning step with two children (Eq. 1, AND
+//! regions, Eq. 2, subgoals, Voronoi paths) on two site states, one whose move is a
+//! single cycle and one that retrieves subgoals, and its dearest stages.
+//!
 //! The knowledge map is made deterministically: an office episode (seed 0) stopped
 //! after 15 scans; the parent stands where the 15th scan was taken. A second group
 //! repeats the two dearest stages after 100 scans, when most of the floor is known
@@ -16,14 +20,19 @@ use criterion::{criterion_group, criterion_main, Criterion};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
-use cpsplan::geom::Cell;
+use cpsplan::geom::{Cell, Point};
+use cpsplan::mission::{cycle_params, plan_step};
+use cpsplan::planning::and_region::{and_region, mutual_view, ChildReach};
+use cpsplan::planning::cps_maps::Groundwork;
 use cpsplan::planning::frontier::{band, border_cells};
 use cpsplan::planning::kmeans::kmeans;
 use cpsplan::planning::reach::{sweep, UNREACHED};
+use cpsplan::planning::visgraph::VisibilityGraph;
+use cpsplan::planning::voronoi::gvd;
 use cpsplan::planning::{plan_parent, Traversability};
 use cpsplan::sensing::expected_gain;
 use cpsplan::world::builtin::BuiltinMap;
-use cpsplan::{run_episode, Config, OccupancyGrid};
+use cpsplan::{run_episode, run_episode_with, Config, OccupancyGrid};
 
 /// The office knowledge map after 15 scans, the parent's cell, the last plan's
 /// target cell and its band samples (cell units).
@@ -174,5 +183,85 @@ fn episode(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, stages, late_stages, episode);
+/// A site (seed 0) state with two children: the knowledge map the step planned
+/// on, the parent's and the children's cells, and whether the step's move
+/// retrieved subgoals.
+struct TeamState {
+    knowledge: OccupancyGrid,
+    parent: Point,
+    children: Vec<Point>,
+    retrieved: bool,
+    target: Option<Cell>,
+}
+
+/// The first step of the site episode with two children whose move retrieved
+/// subgoals (`retrieved`), or the first after the third scan whose move did not.
+fn team_state(config: &Config, retrieved: bool) -> TeamState {
+    let map = BuiltinMap::Site;
+    let truth = map.generate(0);
+    let mut found: Option<TeamState> = None;
+    run_episode_with(&truth, map.default_start(), config, |step, known| {
+        let target = step.movement.target.map(|i| step.plan.candidates[i].cell);
+        if found.is_none()
+            && step.scan > 3
+            && target.is_some()
+            && step.movement.subgoal_retrieval == retrieved
+        {
+            found = Some(TeamState {
+                knowledge: known.clone(),
+                parent: step.position,
+                children: step.children.clone(),
+                retrieved,
+                target,
+            });
+        }
+    })
+    .expect("episode");
+    found.expect("such a step")
+}
+
+fn team(c: &mut Criterion) {
+    let mut config = Config::default();
+    config.children.count = 2;
+    let params = cycle_params(&config);
+    let mut group = c.benchmark_group("site_team");
+    group
+        .sample_size(20)
+        .warm_up_time(Duration::from_millis(500))
+        .measurement_time(Duration::from_secs(4));
+    for retrieved in [false, true] {
+        let s = team_state(&config, retrieved);
+        let k = &s.knowledge;
+        let g = *k.geometry();
+        let parent = g.world_to_cell(s.parent).expect("parent on the map");
+        let name = if s.retrieved { "subgoals" } else { "direct" };
+        group.bench_function(format!("plan_step_{name}"), |b| {
+            b.iter(|| plan_step(black_box(k), s.parent, &s.children, &config).expect("plan"))
+        });
+        if retrieved {
+            let trav = Traversability::new(k, config.robot.radius, parent);
+            group.bench_function("visibility_graph", |b| {
+                b.iter(|| VisibilityGraph::build(black_box(k), &trav))
+            });
+            continue;
+        }
+        group.bench_function("groundwork", |b| {
+            b.iter(|| Groundwork::new(black_box(k), parent, config.robot.radius, &params))
+        });
+        let trav = Traversability::new(k, config.robot.radius, parent);
+        group.bench_function("gvd", |b| b.iter(|| gvd(black_box(k), &trav)));
+        let target = s.target.expect("a target");
+        let child = g.world_to_cell(s.children[0]).expect("child on the map");
+        let reach = ChildReach::new(k, child, params.child_radius);
+        group.bench_function("and_region", |b| {
+            b.iter(|| {
+                let mutual = mutual_view(black_box(k), parent, target, params.link);
+                and_region(&mutual, &reach)
+            })
+        });
+    }
+    group.finish();
+}
+
+criterion_group!(benches, stages, late_stages, episode, team);
 criterion_main!(benches);

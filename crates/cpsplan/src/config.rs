@@ -103,9 +103,9 @@ impl Default for ParentConfig {
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct ChildrenConfig {
-    /// Number of children (the paper's simulations used two, CPS-VIII four). 0, the
-    /// default for now, lets the parent move alone; with children every move runs
-    /// as CPS cycles (this integration is new and slower: about 0.2 s a step).
+    /// Number of children (the paper's simulations used two, the default;
+    /// CPS-VIII four). With children every move runs as CPS cycles; 0 lets the
+    /// parent move alone.
     pub count: usize,
     /// Radius of each child, metres.
     pub radius: f64,
@@ -121,12 +121,16 @@ pub struct ChildrenConfig {
     pub min_range: f64,
     /// Longest parent–child link, metres; `None` means the scanner range.
     pub max_range: Option<f64>,
+    /// Clearance above this many metres counts as this much in Eq. (2): a child
+    /// farther from every obstacle is no safer, and an uncapped clearance (up to
+    /// the scanner range) would drown the angle and distance terms.
+    pub clearance_cap: f64,
 }
 
 impl Default for ChildrenConfig {
     fn default() -> Self {
         Self {
-            count: 0,
+            count: 2,
             radius: 0.25,
             alpha_c: 1.0,
             beta_c: 1.0,
@@ -134,6 +138,7 @@ impl Default for ChildrenConfig {
             d_t: 3.0,
             min_range: 1.3,
             max_range: None,
+            clearance_cap: 1.0,
         }
     }
 }
@@ -254,6 +259,7 @@ impl Config {
         non_negative("children.theta_t_deg", self.children.theta_t_deg)?;
         non_negative("children.d_t", self.children.d_t)?;
         non_negative("children.min_range", self.children.min_range)?;
+        positive("children.clearance_cap", self.children.clearance_cap)?;
         if let Some(m) = self.children.max_range {
             positive("children.max_range", m)?;
         }

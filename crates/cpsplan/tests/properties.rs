@@ -73,9 +73,10 @@ proptest! {
         for (kc, tc) in k.cells().iter().zip(truth.cells()) {
             prop_assert!(*kc == CellState::Unknown || kc == tc);
         }
-        // Every driven leg stays on known-Free cells (thus truth-free cells).
+        // Every planned and driven leg stays on known-Free cells (thus truth-free
+        // cells).
         for s in &episode.steps {
-            for leg in s.plan.path.windows(2) {
+            for leg in s.plan.path.windows(2).chain(s.driven_path().windows(2)) {
                 let a = g.world_to_cell(leg[0]).unwrap();
                 let b = g.world_to_cell(leg[1]).unwrap();
                 prop_assert!(segment_clear(&g, a, b, |i| k.cells()[i] == CellState::Free
@@ -84,9 +85,9 @@ proptest! {
             // Scan positions are free in the ground truth.
             prop_assert_eq!(truth.get(s.cell), CellState::Free);
         }
-        // The last step's path ends where the next scan happened.
+        // Each step's driven path ends where the next scan happened.
         for pair in episode.steps.windows(2) {
-            if let Some(end) = pair[0].plan.path.last() {
+            if let Some(end) = pair[0].driven_path().last() {
                 prop_assert_eq!(g.world_to_cell(*end), Some(pair[1].cell));
             }
         }

@@ -57,20 +57,6 @@ fn draw_children(canvas: &mut Canvas, layout: &MapLayout, episode: &Episode) {
     }
 }
 
-/// The path the parent drove after a step: its CPS cycles' paths when it moved by
-/// cycles, else the plan's path.
-fn driven_path(step: &cpsplan::mission::Step) -> Vec<Point> {
-    if step.movement.cycles.is_empty() {
-        step.plan.path.clone()
-    } else {
-        step.movement
-            .cycles
-            .iter()
-            .flat_map(|c| c.parent_path.iter().copied())
-            .collect()
-    }
-}
-
 /// The intermediate subgoals of every driven move that retrieved subgoals (section
 /// IV-C): where each CPS cycle but the last left the parent. The last step's move
 /// is only planned, not driven, and is left out like its path.
@@ -101,7 +87,8 @@ fn legs(layout: &MapLayout, episode: &Episode) -> Legs {
     for pair in steps.windows(2) {
         let start = legs.points.len();
         legs.points.extend(
-            driven_path(&pair[0])
+            pair[0]
+                .driven_path()
                 .iter()
                 .map(|&p| layout.world_to_px(p))
                 .filter(finite),

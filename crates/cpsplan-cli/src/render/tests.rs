@@ -80,23 +80,22 @@ fn episode_picture_decodes_and_shows_map_and_trajectory() {
     let (ex, ey) = layout.world_to_px(ep.steps.last().unwrap().position);
     assert!(close(rgb_at(&pic, ex, ey), palette::END, 12));
 
-    // A pixel halfway along the longest leg between two scans far apart.
-    let (i, leg) = ep.steps[..ep.steps.len() - 1]
+    // A pixel halfway along the longest straight leg the parent drove, away
+    // from every scan marker.
+    let paths: Vec<Vec<Point>> = ep.steps.iter().map(|s| s.driven_path()).collect();
+    let middle =
+        |seg: &[Point]| Point::new((seg[0].x + seg[1].x) / 2.0, (seg[0].y + seg[1].y) / 2.0);
+    let seg = paths
         .iter()
-        .enumerate()
-        .max_by(|a, b| a.1.plan.path_length_m.total_cmp(&b.1.plan.path_length_m))
-        .unwrap();
-    assert!(
-        ep.steps[i].position.distance(ep.steps[i + 1].position) > 1.5,
-        "scans {} and {} are close",
-        i + 1,
-        i + 2
-    );
-    let path = &leg.plan.path;
-    let seg = path
-        .windows(2)
+        .flat_map(|p| p.windows(2))
+        .filter(|seg| {
+            ep.steps
+                .iter()
+                .all(|s| s.position.distance(middle(seg)) > 0.7)
+        })
         .max_by(|a, b| a[0].distance(a[1]).total_cmp(&b[0].distance(b[1])))
-        .unwrap();
+        .expect("a leg away from the scans");
+    assert!(seg[0].distance(seg[1]) > 1.0, "{seg:?}");
     let mid = Point::new((seg[0].x + seg[1].x) / 2.0, (seg[0].y + seg[1].y) / 2.0);
     let (mx, my) = layout.world_to_px(mid);
     assert!(near(&pic, mx, my, 1, palette::TRAJECTORY));

@@ -147,7 +147,7 @@ pub fn cycle_params(config: &Config) -> CycleParams {
             beta_c: c.beta_c,
             theta_t: c.theta_t_deg.to_radians(),
             d_t: c.d_t,
-            clearance_cap: config.scanner.range,
+            clearance_cap: c.clearance_cap,
         },
     }
 }

@@ -96,6 +96,23 @@ pub struct Step {
     pub movement: MoveRecord,
 }
 
+impl Step {
+    /// The path the parent drove after this step, world frame: its CPS cycles'
+    /// paths when it moved by cycles, else the planned path (empty when the
+    /// mission stopped here).
+    pub fn driven_path(&self) -> Vec<Point> {
+        if self.movement.cycles.is_empty() {
+            self.plan.path.clone()
+        } else {
+            self.movement
+                .cycles
+                .iter()
+                .flat_map(|c| c.parent_path.iter().copied())
+                .collect()
+        }
+    }
+}
+
 /// Totals of an episode.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Summary {
