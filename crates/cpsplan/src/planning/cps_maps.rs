@@ -18,15 +18,13 @@ use std::sync::Arc;
 
 use super::and_region::{seen_by_both, ChildReach, View};
 use super::cps_cycle::CycleParams;
-use super::distance::distance_transform;
 use super::reach::{sweep, DistanceField, UNREACHED};
 use super::terrain::Terrain;
-use super::traversability::clearance_metres;
 use super::visgraph::VisibilityGraph;
 use super::voronoi::{gvd, voronoi_path, Gvd};
 use super::{ParentReach, Traversability};
 use crate::geom::Cell;
-use crate::world::{CellState, OccupancyGrid};
+use crate::world::OccupancyGrid;
 
 /// Views kept at most; the cache starts afresh beyond this (each view is one flag
 /// per cell of its range disc's bounding box).
@@ -50,15 +48,14 @@ pub struct CpsMaps<'k> {
     views: RefCell<HashMap<Cell, Rc<View>>>,
     own_terrain: RefCell<HashMap<Cell, ChildReach>>,
     graph: OnceCell<VisibilityGraph>,
-    clearance: Vec<f32>,
     /// The parent's travel distances from where the step began.
     parent_field: DistanceField,
 }
 
 /// The part of a step's [`CpsMaps`] that does not depend on the parent's planning
 /// round, so that it can be computed while that round runs: the Voronoi
-/// diagrams, the clearance field of Eq. (2), and the children's terrain when
-/// their radius differs from the parent's.
+/// diagrams, and the children's terrain when their radius differs from the
+/// parent's.
 #[derive(Debug)]
 pub struct Groundwork {
     /// The children's terrain (only when their radius differs from the parent's;
@@ -67,8 +64,6 @@ pub struct Groundwork {
     child_gvd: Gvd,
     /// The parent's diagram when its radius differs from the children's.
     parent_gvd: Option<Gvd>,
-    /// Per cell: metres to the nearest known Occupied cell.
-    clearance: Vec<f32>,
 }
 
 impl Groundwork {
@@ -81,7 +76,7 @@ impl Groundwork {
         params: &CycleParams,
     ) -> Self {
         let same = parent_radius == params.child_radius;
-        let ((child_terrain, child_gvd), (parent_gvd, clearance)) = rayon::join(
+        let ((child_terrain, child_gvd), parent_gvd) = rayon::join(
             || {
                 if same {
                     let trav = Traversability::new(knowledge, params.child_radius, parent);
@@ -93,34 +88,20 @@ impl Groundwork {
                 }
             },
             || {
-                let parent_gvd = (!same).then(|| {
+                (!same).then(|| {
                     gvd(
                         knowledge,
                         &Traversability::new(knowledge, parent_radius, parent),
                     )
-                });
-                (parent_gvd, clearance_field(knowledge))
+                })
             },
         );
         Self {
             child_terrain,
             child_gvd,
             parent_gvd,
-            clearance,
         }
     }
-}
-
-/// Metres from every cell to the nearest known Occupied cell, by the rule of
-/// [`super::Traversability::clearance_at`]: one exact distance transform.
-fn clearance_field(knowledge: &OccupancyGrid) -> Vec<f32> {
-    let k = knowledge.cells();
-    let g = knowledge.geometry();
-    let res = g.resolution;
-    distance_transform(g, |i| k[i] == CellState::Occupied)
-        .into_iter()
-        .map(|d| clearance_metres(d, res))
-        .collect()
 }
 
 impl<'k> CpsMaps<'k> {
@@ -158,7 +139,6 @@ impl<'k> CpsMaps<'k> {
             child_terrain,
             child_gvd,
             parent_gvd,
-            clearance,
         } = groundwork;
         let (children, parent) = match (child_terrain, parent_gvd) {
             (Some(t), Some(pg)) => (
@@ -187,7 +167,6 @@ impl<'k> CpsMaps<'k> {
             views: RefCell::default(),
             own_terrain: RefCell::default(),
             graph: OnceCell::new(),
-            clearance,
             parent_field: field,
         }
     }
@@ -198,9 +177,13 @@ impl<'k> CpsMaps<'k> {
     }
 
     /// Metres from the centre of cell `index` to the nearest known Occupied cell,
-    /// by the rule of [`super::Traversability::clearance_at`] (the `1/P` of Eq. 2).
+    /// by the rule of [`super::Traversability::clearance_at`], capped at Eq. (2)'s
+    /// clearance cap (the `1/P` of Eq. 2).
     pub fn clearance_m(&self, index: usize) -> f64 {
-        self.clearance[index] as f64
+        self.children
+            .terrain
+            .trav
+            .clearance_capped(index, self.params.eq2.clearance_cap) as f64
     }
 
     /// The knowledge map.

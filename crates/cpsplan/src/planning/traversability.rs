@@ -59,7 +59,7 @@ struct OccupiedColumns {
 /// The clearance rule in metres for a centre distance of `d` cells: the centre
 /// distance minus half a cell, at least 0.
 #[inline]
-pub fn clearance_metres(d: f32, res: f64) -> f32 {
+fn clearance_metres(d: f32, res: f64) -> f32 {
     ((d - 0.5).max(0.0) as f64 * res) as f32
 }
 
@@ -120,6 +120,12 @@ impl Traversability {
     pub fn clearance_at(&self, index: usize) -> f32 {
         self.clearance.at(index)
     }
+
+    /// [`Self::clearance_at`] capped at `cap` metres; cheaper, as only the Occupied
+    /// cells nearer than the cap are looked for.
+    pub fn clearance_capped(&self, index: usize, cap: f64) -> f32 {
+        self.clearance.capped(index, cap)
+    }
 }
 
 impl OccupiedColumns {
@@ -166,6 +172,20 @@ impl OccupiedColumns {
     }
 
     fn at(&self, index: usize) -> f32 {
+        self.within(index, u64::MAX)
+    }
+
+    /// [`Self::at`], but not above `cap` metres: only Occupied cells nearer than
+    /// the cap are looked for.
+    fn capped(&self, index: usize, cap: f64) -> f32 {
+        // clearance_metres(d) ≥ cap once d ≥ cap / res + 0.5.
+        let beyond = ((cap / self.resolution + 0.5).powi(2).ceil() as u64).saturating_add(1);
+        self.within(index, beyond).min(cap as f32)
+    }
+
+    /// The clearance from Occupied cells at squared centre distances below
+    /// `limit` (infinite if there is none).
+    fn within(&self, index: usize, limit: u64) -> f32 {
         let (x, y) = (index % self.grid_width, index / self.grid_width);
         let Some((x0, y0, x1, y1)) = self.known else {
             return f32::INFINITY;
@@ -185,7 +205,7 @@ impl OccupiedColumns {
         };
         // Walk the columns outward; a column dx away cannot beat `best` once
         // dx² ≥ best.
-        let mut best = u64::MAX;
+        let mut best = limit;
         for dx in 0..bw {
             let dx2 = (dx * dx) as u64;
             if dx2 >= best || (dx > bx && bx + dx >= bw) {
@@ -197,7 +217,7 @@ impl OccupiedColumns {
                 }
             }
         }
-        if best == u64::MAX {
+        if best == limit {
             f32::INFINITY
         } else {
             clearance_metres(distance_of(best), self.resolution)
@@ -610,6 +630,13 @@ mod tests {
             let (clearance, traversable) = reference(&k, radius);
             for (i, c) in clearance.iter().enumerate() {
                 proptest::prop_assert_eq!(t.clearance_at(i).to_bits(), c.to_bits(), "clearance at {}", i);
+                for cap in [0.05, 0.3, 1.0, 2.6] {
+                    proptest::prop_assert_eq!(
+                        t.clearance_capped(i, cap).to_bits(),
+                        t.clearance_at(i).min(cap as f32).to_bits(),
+                        "capped clearance at {}", i
+                    );
+                }
             }
             proptest::prop_assert_eq!(t.traversable, traversable);
         }
