@@ -18,21 +18,28 @@ pub fn shortcut_path(
     target: Cell,
 ) -> Option<Vec<Cell>> {
     let cells = descend(geometry, field, passable, target)?;
-    let clear = |a: Cell, b: Cell| segment_clear(geometry, a, b, |i| passable[i]);
-    let mut out = vec![cells[0]];
+    Some(pull(&cells, |a, b| {
+        segment_clear(geometry, cells[a], cells[b], |i| passable[i])
+    }))
+}
+
+/// String pulling: from each kept waypoint, jump to the farthest later cell with
+/// `clear(anchor, j)` (indices into `cells`), else to the next cell.
+pub(crate) fn pull(cells: &[Cell], clear: impl Fn(usize, usize) -> bool) -> Vec<Cell> {
+    let Some(&first) = cells.first() else {
+        return Vec::new();
+    };
+    let mut out = vec![first];
     let mut anchor = 0;
     while anchor + 1 < cells.len() {
-        let mut next = anchor + 1;
-        for j in (anchor + 2..cells.len()).rev() {
-            if clear(cells[anchor], cells[j]) {
-                next = j;
-                break;
-            }
-        }
+        let next = (anchor + 2..cells.len())
+            .rev()
+            .find(|&j| clear(anchor, j))
+            .unwrap_or(anchor + 1);
         out.push(cells[next]);
         anchor = next;
     }
-    Some(out)
+    out
 }
 
 /// World-frame centres of `cells`.

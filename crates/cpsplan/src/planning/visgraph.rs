@@ -41,18 +41,24 @@
 //!    same cell are merged ([`MERGE_DISTANCE`] = 1 cell). Merging at 2 cells was
 //!    tried and dropped: the survivor of two corners a diagonal step apart does
 //!    not see what the other one saw, and goals became unreachable.
-//! 4. **Edges** (`O(V²·L)`). Every pair of vertices whose straight leg (the
-//!    supercover of the segment between the cell centres) consists of traversable
-//!    cells is an edge, weighted by its Euclidean length in **metres** (cell
-//!    centre distance × resolution). The pairs `(i, j > i)` run in parallel over
-//!    `i` (rayon); each adjacency list is sorted by the other vertex, so the graph
-//!    does not depend on the thread count.
-//! 5. **Queries** (`O(V·L + (V + E) log V)`). [`VisibilityGraph::shortest_path`]
+//! 4. **Edges** (`O(V·L)` per vertex, when first needed). Every pair of vertices
+//!    whose straight leg (the supercover of the segment between the cell centres)
+//!    consists of traversable cells is an edge, weighted by its Euclidean length in
+//!    **metres** (cell centre distance × resolution). A vertex's edges are found
+//!    when a search expands it ([`VisibilityGraph::neighbours`], in parallel over
+//!    the other vertices, sorted by vertex, so nothing depends on the thread
+//!    count). Testing all `V²` pairs up front took seconds per step on a
+//!    275 m × 220 m campus map with thousands of vertices; a query expands only
+//!    the vertices A* reaches inside its ellipse (below).
+//! 5. **Queries** (`O(V·L + (V + E) log V)` at worst). [`VisibilityGraph::shortest_path`]
 //!    returns the straight leg if `from` sees `to`; otherwise it links `from` and
-//!    `to` to every vertex they see and runs Dijkstra (binary heap, `f64` metres,
-//!    ties broken by node index) over the graph plus these two nodes. Query legs
-//!    are checked over [`Traversability::passable`] (a superset of
-//!    `traversable`), so a robot in its escape region can still leave.
+//!    `to` to every vertex they see and runs A* (straight-line distance to the
+//!    goal as the bound; binary heap, `f64` metres, ties broken by node index) over
+//!    the graph plus these two nodes, in rounds restricted to the vertices inside
+//!    an ellipse with foci `from` and `to` that doubles until the path found fits
+//!    in it (then it is the shortest over the whole graph). Query legs are checked over
+//!    [`Traversability::passable`] (a superset of `traversable`), so a robot in its
+//!    escape region can still leave.
 //! 6. **Fallback.** An endpoint inside a dent that the simplification smoothed
 //!    away may see no vertex. The convex corners of the *unsimplified* outlines
 //!    are kept as [`VisibilityGraph::detail`]; if the first search finds no path,
@@ -103,19 +109,30 @@ pub const MERGE_DISTANCE: f64 = 1.0;
 /// fallback search of [`VisibilityGraph::shortest_path`].
 pub const DETAIL_LINKS: usize = 16;
 
-/// A Visibility Graph over the convex corners of the non-drivable region.
-#[derive(Debug, Clone, PartialEq)]
+/// A Visibility Graph over the convex corners of the non-drivable region. Its
+/// edges are found when a search first needs them ([`Self::neighbours`]).
+#[derive(Debug, Clone)]
 pub struct VisibilityGraph {
     /// The graph's vertices: drivable cells near the convex obstacle corners.
     pub vertices: Vec<Cell>,
-    /// Per vertex: `(other vertex, leg length in metres)`, sorted by the other
-    /// vertex; symmetric.
-    pub edges: Vec<Vec<(usize, f64)>>,
     /// The drivable cells at the convex corners of the *unsimplified* outlines
     /// (sorted, none of them a vertex): the fallback of
     /// [`VisibilityGraph::shortest_path`] for endpoints in pockets that the
     /// simplification smoothed away.
     pub detail: Vec<Cell>,
+    /// The drivable cells the graph was built on.
+    drivable: Vec<bool>,
+    geometry: GridGeometry,
+}
+
+impl PartialEq for VisibilityGraph {
+    /// Graphs are equal when built from the same cells (edges follow from them).
+    fn eq(&self, other: &Self) -> bool {
+        self.vertices == other.vertices
+            && self.detail == other.detail
+            && self.geometry == other.geometry
+            && self.drivable == other.drivable
+    }
 }
 
 /// A point on the lattice of cell corners (or in between), in cells.
@@ -157,38 +174,44 @@ impl VisibilityGraph {
         detail.sort_unstable();
         detail.dedup();
         detail.retain(|c| sorted.binary_search(c).is_err());
-        let res = g.resolution;
-        let forward: Vec<Vec<(usize, f64)>> = (0..vertices.len())
-            .into_par_iter()
-            .map(|i| {
-                let a = vertices[i];
-                vertices[i + 1..]
-                    .iter()
-                    .enumerate()
-                    .filter(|&(_, &b)| segment_clear(&g, a, b, |k| drivable[k]))
-                    .map(|(o, &b)| (i + 1 + o, cell_distance(a, b) * res))
-                    .collect()
-            })
-            .collect();
-        let mut edges = forward.clone();
-        for (i, list) in forward.iter().enumerate() {
-            for &(j, d) in list {
-                edges[j].push((i, d));
-            }
-        }
-        for list in &mut edges {
-            list.sort_by_key(|&(j, _)| j);
-        }
         VisibilityGraph {
             vertices,
-            edges,
             detail,
+            drivable: drivable.clone(),
+            geometry: g,
         }
     }
 
-    /// Number of (undirected) edges.
+    /// The neighbours of vertex `v`: `(other vertex, leg length in metres)` for
+    /// every vertex whose straight leg from `v` is drivable, sorted by the other
+    /// vertex (`O(V·L)`, in parallel).
+    pub fn neighbours(&self, v: usize) -> Vec<(usize, f64)> {
+        let all: Vec<usize> = (0..self.vertices.len()).collect();
+        self.neighbours_among(v, &all)
+    }
+
+    /// [`Self::neighbours`] among the vertices `among` (ascending).
+    fn neighbours_among(&self, v: usize, among: &[usize]) -> Vec<(usize, f64)> {
+        let g = &self.geometry;
+        let a = self.vertices[v];
+        let drivable = &self.drivable;
+        among
+            .par_iter()
+            .filter(|&&j| j != v)
+            .filter_map(|&j| {
+                let b = self.vertices[j];
+                segment_clear(g, a, b, |k| drivable[k])
+                    .then(|| (j, cell_distance(a, b) * g.resolution))
+            })
+            .collect()
+    }
+
+    /// Number of (undirected) edges (computes every vertex's neighbours).
     pub fn edge_count(&self) -> usize {
-        self.edges.iter().map(Vec::len).sum::<usize>() / 2
+        (0..self.vertices.len())
+            .map(|v| self.neighbours(v).len())
+            .sum::<usize>()
+            / 2
     }
 
     /// The shortest path from `from` to `to` through the graph: its cells, `from`
@@ -243,15 +266,46 @@ impl VisibilityGraph {
         })
     }
 
-    /// Dijkstra from `overlay[0]` to `overlay[1]` over the graph plus the
+    /// The shortest path from `overlay[0]` to `overlay[1]` over the graph plus the
     /// `overlay` cells as extra nodes, linked to every vertex and overlay cell they
     /// see.
+    ///
+    /// Bounded rounds: only the vertices `v` with `|v − from| + |v − to| ≤ s` take
+    /// part (an ellipse with foci at the two ends), starting with `s` = 1.2 times
+    /// the straight distance plus 10 m and doubling. Every vertex of a path no
+    /// longer than `s` lies in that ellipse, so a path found no longer than `s` is
+    /// the shortest over the whole graph; the last round takes every vertex.
     fn search(
         &self,
         g: &GridGeometry,
         ok: &(impl Fn(usize) -> bool + Sync),
         overlay: Vec<Cell>,
     ) -> Option<Vec<Cell>> {
+        let n = self.vertices.len();
+        let res = g.resolution;
+        let (from, to) = (overlay[0], overlay[1]);
+        let sum = |c: Cell| (cell_distance(c, from) + cell_distance(c, to)) * res;
+        let mut bound = 1.2 * sum(from) + 10.0;
+        loop {
+            let among: Vec<usize> = (0..n).filter(|&v| sum(self.vertices[v]) <= bound).collect();
+            let last = among.len() == n;
+            match self.search_among(g, ok, &overlay, &among) {
+                Some((path, length)) if last || length <= bound => return Some(path),
+                None if last => return None,
+                _ => bound *= 2.0,
+            }
+        }
+    }
+
+    /// A* from `overlay[0]` to `overlay[1]` over the vertices `among` and the
+    /// overlay cells: the path's cells and its length in metres.
+    fn search_among(
+        &self,
+        g: &GridGeometry,
+        ok: &(impl Fn(usize) -> bool + Sync),
+        overlay: &[Cell],
+        among: &[usize],
+    ) -> Option<(Vec<Cell>, f64)> {
         let n = self.vertices.len();
         let res = g.resolution;
         let cell_of = |node: usize| {
@@ -267,7 +321,9 @@ impl VisibilityGraph {
             .par_iter()
             .enumerate()
             .map(|(o, &c)| {
-                (0..n)
+                among
+                    .iter()
+                    .copied()
                     .chain(n + o + 1..all)
                     .filter_map(|node| {
                         let v = cell_of(node);
@@ -287,29 +343,38 @@ impl VisibilityGraph {
             extra[n + o].extend(list);
         }
         let (src, dst) = (n, n + 1);
+        // A*: the straight-line distance to the goal is a consistent bound.
+        let goal = cell_of(dst);
+        let h = |node: usize| cell_distance(cell_of(node), goal) * res;
         let mut dist = vec![f64::INFINITY; all];
         let mut prev = vec![usize::MAX; all];
+        let mut done = vec![false; all];
         let mut heap = BinaryHeap::new();
         dist[src] = 0.0;
         heap.push(State {
-            cost: 0.0,
+            cost: h(src),
             node: src,
         });
-        while let Some(State { cost, node }) = heap.pop() {
-            if cost > dist[node] {
+        while let Some(State { node, .. }) = heap.pop() {
+            if done[node] {
                 continue;
             }
+            done[node] = true;
             if node == dst {
                 break;
             }
-            let base: &[(usize, f64)] = if node < n { &self.edges[node] } else { &[] };
+            let base = if node < n {
+                self.neighbours_among(node, among)
+            } else {
+                Vec::new()
+            };
             for &(next, d) in base.iter().chain(&extra[node]) {
-                let c = cost + d;
+                let c = dist[node] + d;
                 if c < dist[next] {
                     dist[next] = c;
                     prev[next] = node;
                     heap.push(State {
-                        cost: c,
+                        cost: c + h(next),
                         node: next,
                     });
                 }
@@ -325,7 +390,7 @@ impl VisibilityGraph {
             path.push(cell_of(node));
         }
         path.reverse();
-        Some(path)
+        Some((path, dist[dst]))
     }
 }
 
@@ -693,9 +758,9 @@ mod tests {
         for &v in &graph.vertices {
             assert!(trav.traversable[g.index(v)], "{v:?}");
         }
-        for (i, list) in graph.edges.iter().enumerate() {
-            for &(j, d) in list {
-                assert!(graph.edges[j].iter().any(|&(k, e)| k == i && e == d));
+        for i in 0..graph.vertices.len() {
+            for (j, d) in graph.neighbours(i) {
+                assert!(graph.neighbours(j).iter().any(|&(k, e)| k == i && e == d));
                 assert!(segment_clear(
                     g,
                     graph.vertices[i],

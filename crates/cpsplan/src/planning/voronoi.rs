@@ -58,6 +58,7 @@
 use rayon::prelude::*;
 
 use super::line::segment_clear;
+use super::path::pull;
 use super::search::{octile, search};
 use super::traversability::Traversability;
 use crate::geom::Cell;
@@ -533,25 +534,6 @@ fn edge_components(g: &GridGeometry, passable: &[bool], skeleton: &[bool]) -> Ve
         next += 1;
     }
     label
-}
-
-/// String pulling: from each kept waypoint, jump to the farthest later cell with
-/// `clear(anchor, j)` (indices into `cells`), else to the next cell.
-fn pull(cells: &[Cell], clear: impl Fn(usize, usize) -> bool) -> Vec<Cell> {
-    let Some(&first) = cells.first() else {
-        return Vec::new();
-    };
-    let mut out = vec![first];
-    let mut anchor = 0;
-    while anchor + 1 < cells.len() {
-        let next = (anchor + 2..cells.len())
-            .rev()
-            .find(|&j| clear(anchor, j))
-            .unwrap_or(anchor + 1);
-        out.push(cells[next]);
-        anchor = next;
-    }
-    out
 }
 
 #[cfg(test)]
