@@ -205,14 +205,17 @@ pub const RELOCATE_RADIUS_M: f64 = 3.0;
 pub const RELOCATE_SPACING_M: f64 = 0.3;
 /// Relocated targets tried at most per candidate, best expected gain first.
 pub const RELOCATE_TRIES: usize = 12;
+/// Candidates relocated at most per step, best `G` first.
+pub const RELOCATE_CANDIDATES: usize = 3;
 
 /// Moves the parent from `here` to the best reachable candidate of `plan` by CPS
 /// cycles, trying the eligible candidates in decreasing `G`; `reach` is what the
 /// planning round computed for the parent, `groundwork` what [`plan_round`]
 /// computed alongside it (computed here if `None`).
 ///
-/// When no candidate can be reached (the paper's planner would stop here), each
-/// eligible candidate in turn is *relocated*: drivable cells within
+/// When no candidate can be reached (the paper's planner would stop here), the
+/// [`RELOCATE_CANDIDATES`] best eligible candidates in turn are *relocated*:
+/// drivable cells within
 /// [`RELOCATE_RADIUS_M`] of it that still expect `min_gain_cells` new cells are
 /// tried, best gain first, and the first one a CPS move reaches is appended to
 /// `plan.candidates` (origin `Relocated`) and taken. Returns the record and where
@@ -253,7 +256,7 @@ pub fn execute_move(
             }),
         }
     }
-    for &index in &order {
+    for &index in order.iter().take(RELOCATE_CANDIDATES) {
         for cell in relocations(&maps, plan.candidates[index].cell, config) {
             if let Ok(m) = plan_move_in(&maps, here, cell, children) {
                 let terrain = maps.parent_terrain();
