@@ -218,7 +218,8 @@ proptest! {
         let start = g.cell_center(free[pick % free.len()]);
         let mut config = small_config(seed);
         config.scanner.range = 4.0;
-        config.children.count = 2;
+        // Two to four children.
+        config.children.count = 2 + (seed as usize / 2) % 3;
         config.mission.max_scans = 20;
         // A short link range in half the cases, so that long moves need subgoals.
         if seed % 2 == 0 {
@@ -261,6 +262,16 @@ proptest! {
                 }
                 prop_assert!(clear_of_truth(&cycle.parent_path, config.robot.radius),
                     "parent path {:?}", cycle.parent_path);
+                // No two children share a spot.
+                prop_assert_eq!(cycle.children.len(), config.children.count);
+                for (a, ca) in cycle.children.iter().enumerate() {
+                    for cb in &cycle.children[a + 1..] {
+                        if !(ca.stays && cb.stays) {
+                            let d = metres(ca.to, cb.to);
+                            prop_assert!(d >= 2.0 * config.children.radius - 1e-9, "children {} m apart", d);
+                        }
+                    }
+                }
             }
         }
     }
