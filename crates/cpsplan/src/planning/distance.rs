@@ -105,6 +105,23 @@ impl Breakpoint {
 /// Lower envelope of the parabolas `(x − u)² + g[u]²` over the columns `u` with a
 /// finite `g[u]`, sampled at every column.
 fn envelope(g: &[u32], out: &mut [f32], v: &mut [usize], z: &mut [Breakpoint]) {
+    lower_envelope(g, v, z, |q, p| {
+        let dx = q.abs_diff(p) as u64;
+        let gp = g[p] as u64;
+        out[q] = ((dx * dx + gp * gp) as f64).sqrt() as f32;
+    });
+}
+
+/// The lower envelope of the parabolas `(x − u)² + g[u]²` over the columns `u`
+/// with `g[u]` not [`NONE`]: `emit(q, p)` for every column `q`, with `p` the
+/// column whose parabola is lowest at `q` (nothing if every `g[u]` is `NONE`).
+/// `v` and `z` are working buffers of `g.len()` and `g.len() + 1` entries.
+fn lower_envelope(
+    g: &[u32],
+    v: &mut [usize],
+    z: &mut [Breakpoint],
+    mut emit: impl FnMut(usize, usize),
+) {
     let f = |u: usize| {
         let gu = g[u] as i64;
         gu * gu + (u * u) as i64
@@ -146,15 +163,72 @@ fn envelope(g: &[u32], out: &mut [f32], v: &mut [usize], z: &mut [Breakpoint]) {
         return;
     }
     k = 0;
-    for (q, o) in out.iter_mut().enumerate() {
+    for q in 0..g.len() {
         while z[k + 1].lt_column(q) {
             k += 1;
         }
-        let p = v[k];
-        let dx = q.abs_diff(p) as u64;
-        let gp = g[p] as u64;
-        *o = ((dx * dx + gp * gp) as f64).sqrt() as f32;
+        emit(q, v[k]);
     }
+}
+
+/// Exact Euclidean feature transform of a `width × height` window in which every
+/// column holds an obstacle cell (`obstacle`, row-major): per cell the column and
+/// row of a nearest obstacle cell, and the squared distance to it.
+pub(crate) fn feature_transform(
+    width: usize,
+    height: usize,
+    obstacle: &[bool],
+) -> (Vec<(u32, u32)>, Vec<u32>) {
+    let (w, h) = (width, height);
+    // Column pass: the row of the nearest obstacle in the same column.
+    let mut near = vec![NONE; w * h];
+    for y in 0..h {
+        for x in 0..w {
+            let i = y * w + x;
+            near[i] = if obstacle[i] {
+                y as u32
+            } else if y > 0 {
+                near[i - w]
+            } else {
+                NONE
+            };
+        }
+    }
+    for y in (0..h.saturating_sub(1)).rev() {
+        for x in 0..w {
+            let i = y * w + x;
+            let up = near[i + w];
+            if near[i] == NONE || up.abs_diff(y as u32) < near[i].abs_diff(y as u32) {
+                near[i] = up;
+            }
+        }
+    }
+    // Row pass.
+    let mut feature = vec![(0u32, 0u32); w * h];
+    let mut d2 = vec![0u32; w * h];
+    feature
+        .par_chunks_mut(w)
+        .zip(d2.par_chunks_mut(w))
+        .enumerate()
+        .for_each_init(
+            || (vec![0u32; w], vec![0usize; w], vec![Breakpoint::MIN; w + 1]),
+            |(g, v, z), (y, (feat_row, d2_row))| {
+                let near_row = &near[y * w..][..w];
+                for (gx, &r) in g.iter_mut().zip(near_row) {
+                    *gx = if r == NONE {
+                        NONE
+                    } else {
+                        r.abs_diff(y as u32)
+                    };
+                }
+                lower_envelope(g, v, z, |q, p| {
+                    let dx = q.abs_diff(p) as u32;
+                    feat_row[q] = (p as u32, near_row[p]);
+                    d2_row[q] = dx * dx + g[p] * g[p];
+                });
+            },
+        );
+    (feature, d2)
 }
 
 #[cfg(test)]
@@ -164,6 +238,26 @@ mod tests {
     use proptest::prelude::*;
 
     proptest! {
+        /// Every feature is an obstacle cell at the least squared distance.
+        #[test]
+        fn features_are_nearest_obstacles(w in 1usize..14, h in 1usize..14, bits in proptest::collection::vec(0u8..6, 196)) {
+            // Every column holds an obstacle: the top row is solid.
+            let obstacle: Vec<bool> = (0..w * h).map(|i| bits[i] == 0 || i / w == h - 1).collect();
+            let (feature, d2) = feature_transform(w, h, &obstacle);
+            for i in 0..w * h {
+                let (x, y) = ((i % w) as i64, (i / w) as i64);
+                let best = (0..w * h)
+                    .filter(|&j| obstacle[j])
+                    .map(|j| (x - (j % w) as i64).pow(2) + (y - (j / w) as i64).pow(2))
+                    .min()
+                    .unwrap();
+                prop_assert_eq!(d2[i] as i64, best, "cell {}", i);
+                let (fx, fy) = feature[i];
+                prop_assert!(obstacle[fy as usize * w + fx as usize]);
+                prop_assert_eq!((x - fx as i64).pow(2) + (y - fy as i64).pow(2), best);
+            }
+        }
+
         #[test]
         fn matches_brute_force(w in 1usize..14, h in 1usize..14, bits in proptest::collection::vec(0u8..6, 196)) {
             let g = GridGeometry::new(w, h, 1.0, Point::default());

@@ -57,6 +57,7 @@
 
 use rayon::prelude::*;
 
+use super::distance::feature_transform;
 use super::line::segment_clear;
 use super::path::pull;
 use super::search::{octile, search};
@@ -244,81 +245,6 @@ fn wins(p: Site, q: Site, feature: &[(u32, u32)], d2: &[u32]) -> bool {
         |c: Site, other: (u32, u32)| (dist2(c, other) as f64).sqrt() - (d2[c.i] as f64).sqrt();
     let (ep, eq) = (excess(p, feature[q.i]), excess(q, feature[p.i]));
     ep < eq || (ep == eq && p.i < q.i)
-}
-
-/// Exact Euclidean feature transform of a `pw × ph` window whose every column holds
-/// an obstacle: per cell the column and row of a nearest obstacle cell and the
-/// squared distance to it.
-fn feature_transform(pw: usize, ph: usize, obstacle: &[bool]) -> (Vec<(u32, u32)>, Vec<u32>) {
-    // Column pass: the row of the nearest obstacle in the same column.
-    let mut near = vec![NONE; pw * ph];
-    for y in 0..ph {
-        for x in 0..pw {
-            let i = y * pw + x;
-            near[i] = if obstacle[i] {
-                y as u32
-            } else if y > 0 {
-                near[i - pw]
-            } else {
-                NONE
-            };
-        }
-    }
-    for y in (0..ph - 1).rev() {
-        for x in 0..pw {
-            let i = y * pw + x;
-            let up = near[i + pw];
-            if near[i] == NONE || up.abs_diff(y as u32) < near[i].abs_diff(y as u32) {
-                near[i] = up;
-            }
-        }
-    }
-    // Row pass: lower envelope of the parabolas (x − s)² + g(s)².
-    let mut feature = vec![(0u32, 0u32); pw * ph];
-    let mut d2 = vec![0u32; pw * ph];
-    feature
-        .par_chunks_mut(pw)
-        .zip(d2.par_chunks_mut(pw))
-        .enumerate()
-        .for_each_init(
-            || (vec![0usize; pw], vec![0f64; pw + 1], vec![0i64; pw]),
-            |(v, z, f), (y, (feat_row, d2_row))| {
-                let near_row = &near[y * pw..][..pw];
-                for (fx, &r) in f.iter_mut().zip(near_row) {
-                    *fx = (r as i64 - y as i64).pow(2);
-                }
-                let mut k = 0usize;
-                v[0] = 0;
-                z[0] = f64::NEG_INFINITY;
-                z[1] = f64::INFINITY;
-                for q in 1..pw {
-                    let s = loop {
-                        let r = v[k];
-                        let s = ((f[q] + (q * q) as i64) - (f[r] + (r * r) as i64)) as f64
-                            / (2 * (q - r)) as f64;
-                        if s <= z[k] {
-                            k -= 1;
-                        } else {
-                            break s;
-                        }
-                    };
-                    k += 1;
-                    v[k] = q;
-                    z[k] = s;
-                    z[k + 1] = f64::INFINITY;
-                }
-                k = 0;
-                for x in 0..pw {
-                    while z[k + 1] < x as f64 {
-                        k += 1;
-                    }
-                    let s = v[k];
-                    feat_row[x] = (s as u32, near_row[s]);
-                    d2_row[x] = ((x as i64 - s as i64).pow(2) + f[s]) as u32;
-                }
-            },
-        );
-    (feature, d2)
 }
 
 /// Labels of the 8-connected components of the obstacle cells ([`NONE`] elsewhere;
