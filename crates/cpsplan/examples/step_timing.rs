@@ -4,6 +4,7 @@
 //! map and robot positions, then every step is planned again and timed.
 //!
 //! `cargo run --release -p cpsplan --example step_timing -- site 0 2`
+//! (`VERBOSE=1` prints every step's time).
 
 use std::time::Instant;
 
@@ -16,6 +17,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let map: BuiltinMap = args.next().unwrap_or_else(|| "site".into()).parse()?;
     let seed: u64 = args.next().map(|s| s.parse()).transpose()?.unwrap_or(0);
     let children: usize = args.next().map(|s| s.parse()).transpose()?.unwrap_or(2);
+    let verbose = std::env::var_os("VERBOSE").is_some();
     let mut config = Config {
         seed,
         ..Config::default()
@@ -33,8 +35,18 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     for (known, parent, kids) in &states {
         let t = Instant::now();
         let step = plan_step(known, *parent, kids, &config)?;
-        times.push(t.elapsed().as_secs_f64() * 1e3);
+        let ms = t.elapsed().as_secs_f64() * 1e3;
+        times.push(ms);
         retrieved += usize::from(step.movement.subgoal_retrieval);
+        if verbose {
+            eprintln!(
+                "step {:3}: {ms:6.1} ms, {} cycles, subgoals {}, {} rejected",
+                times.len(),
+                step.movement.cycles.len(),
+                step.movement.subgoal_retrieval,
+                step.movement.rejected.len()
+            );
+        }
     }
     let mut sorted = times.clone();
     sorted.sort_by(f64::total_cmp);

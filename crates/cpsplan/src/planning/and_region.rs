@@ -32,14 +32,18 @@ pub struct LinkRange {
 }
 
 /// The cells in certain line of sight from one position within range, as a mask
-/// over the bounding box of the range disc (clipped to the grid). Only known-Free
-/// cells let the beam through; only known-Free cells are seen.
+/// over the rows and columns of the range disc's bounding box (clipped to the
+/// grid). Only known-Free cells let the beam through; only known-Free cells are
+/// seen.
 #[derive(Debug, Clone)]
 pub struct View {
     x0: usize,
     y0: usize,
-    width: usize,
-    height: usize,
+    x1: usize,
+    y1: usize,
+    /// The grid's width: the mask keeps the grid's row stride (rows `y0..=y1`),
+    /// so a visited cell's flag is found without a division.
+    stride: usize,
     mask: Vec<bool>,
 }
 
@@ -49,35 +53,43 @@ impl View {
         let g = knowledge.geometry();
         let k = knowledge.cells();
         let res = g.resolution;
-        let reach = (range.max / res).floor().max(0.0) as usize;
+        // The disc's radius in whole cells, as the sweep rounds it.
+        let r = (range.max / res).max(0.0);
+        let reach = ((r * r + 1e-9).floor().sqrt().floor()) as usize;
         let (x0, y0) = (from.x.saturating_sub(reach), from.y.saturating_sub(reach));
         let x1 = (from.x + reach).min(g.width.saturating_sub(1));
         let y1 = (from.y + reach).min(g.height.saturating_sub(1));
-        let (width, height) = (x1 + 1 - x0, y1 + 1 - y0);
-        let mut mask = vec![false; width * height];
-        let min2 = (range.min / res).powi(2);
-        let w = g.width;
+        let stride = g.width;
+        let row0 = y0 * stride;
+        let mut mask = vec![false; (y1 + 1 - y0) * stride];
+        // Every visited cell lies in the disc, so in the box.
         visible_cells(
             g,
             from,
             range.max / res,
             |i| k[i] != CellState::Free,
             |i| {
-                let (x, y) = (i % w, i / w);
-                if k[i] == CellState::Free && x >= x0 && x <= x1 && y >= y0 && y <= y1 {
-                    let (dx, dy) = (x as f64 - from.x as f64, y as f64 - from.y as f64);
-                    if dx * dx + dy * dy >= min2 - 1e-9 {
-                        mask[(y - y0) * width + (x - x0)] = true;
-                    }
-                }
+                mask[i - row0] = k[i] == CellState::Free;
                 false
             },
         );
+        // Closer than the minimum range: not measurable.
+        let min = range.min / res;
+        let near = min.ceil() as usize;
+        for y in from.y.saturating_sub(near).max(y0)..=(from.y + near).min(y1) {
+            for x in from.x.saturating_sub(near).max(x0)..=(from.x + near).min(x1) {
+                let (dx, dy) = (x as f64 - from.x as f64, y as f64 - from.y as f64);
+                if dx * dx + dy * dy < min * min - 1e-9 {
+                    mask[(y - y0) * stride + x] = false;
+                }
+            }
+        }
         Self {
             x0,
             y0,
-            width,
-            height,
+            x1,
+            y1,
+            stride,
             mask,
         }
     }
@@ -87,18 +99,16 @@ impl View {
     pub fn sees(&self, cell: Cell) -> bool {
         cell.x >= self.x0
             && cell.y >= self.y0
-            && cell.x < self.x0 + self.width
-            && cell.y < self.y0 + self.height
-            && self.mask[(cell.y - self.y0) * self.width + (cell.x - self.x0)]
+            && cell.x <= self.x1
+            && cell.y <= self.y1
+            && self.mask[(cell.y - self.y0) * self.stride + cell.x]
     }
 
     /// The view as a mask over all cells of a grid of `geometry`.
     pub fn to_mask(&self, geometry: &GridGeometry) -> Vec<bool> {
         let mut out = vec![false; geometry.len()];
-        for (r, row) in self.mask.chunks_exact(self.width.max(1)).enumerate() {
-            let start = (self.y0 + r) * geometry.width + self.x0;
-            out[start..start + self.width].copy_from_slice(row);
-        }
+        let start = self.y0 * geometry.width;
+        out[start..start + self.mask.len()].copy_from_slice(&self.mask);
         out
     }
 }
@@ -112,17 +122,19 @@ pub fn certain_view(knowledge: &OccupancyGrid, from: Cell, range: LinkRange) -> 
 
 /// The cells both views see, as ascending grid indices.
 pub fn seen_by_both(geometry: &GridGeometry, a: &View, b: &View) -> Vec<u32> {
-    let x0 = a.x0.max(b.x0);
-    let y0 = a.y0.max(b.y0);
-    let x1 = (a.x0 + a.width).min(b.x0 + b.width);
-    let y1 = (a.y0 + a.height).min(b.y0 + b.height);
+    let w = geometry.width;
+    let (x0, y0) = (a.x0.max(b.x0), a.y0.max(b.y0));
+    let (x1, y1) = (a.x1.min(b.x1), a.y1.min(b.y1));
     let mut out = Vec::new();
-    for y in y0..y1 {
-        let ra = &a.mask[(y - a.y0) * a.width..][..a.width];
-        let rb = &b.mask[(y - b.y0) * b.width..][..b.width];
-        for x in x0..x1 {
-            if ra[x - a.x0] && rb[x - b.x0] {
-                out.push((y * geometry.width + x) as u32);
+    if x0 > x1 || y0 > y1 {
+        return out;
+    }
+    for y in y0..=y1 {
+        let ra = &a.mask[(y - a.y0) * a.stride..][x0..=x1];
+        let rb = &b.mask[(y - b.y0) * b.stride..][x0..=x1];
+        for (dx, (&p, &q)) in ra.iter().zip(rb).enumerate() {
+            if p && q {
+                out.push((y * w + x0 + dx) as u32);
             }
         }
     }
@@ -229,6 +241,46 @@ mod tests {
         min: 1.3,
         max: 20.0,
     };
+
+    proptest::proptest! {
+        /// The windowed view agrees with a plain whole-grid mask of the visible,
+        /// known-Free cells between the range limits.
+        #[test]
+        fn view_matches_the_plain_rule(
+            w in 3usize..60,
+            h in 3usize..60,
+            cells in proptest::collection::vec(0u8..5, 3600),
+            ox in 0usize..60,
+            oy in 0usize..60,
+            min in 0.0f64..1.5,
+            max in 0.5f64..4.0,
+        ) {
+            let g = GridGeometry::new(w, h, 0.1, crate::Point::default());
+            let mut k = OccupancyGrid::filled(g, CellState::Free);
+            for (i, &v) in cells.iter().enumerate().take(g.len()) {
+                let c = g.cell(i);
+                match v {
+                    0 => k.fill_rect(c.x, c.y, c.x + 1, c.y + 1, CellState::Occupied),
+                    1 => k.fill_rect(c.x, c.y, c.x + 1, c.y + 1, CellState::Unknown),
+                    _ => {}
+                }
+            }
+            let from = Cell::new(ox % w, oy % h);
+            let range = LinkRange { min, max };
+            let mut plain = vec![false; g.len()];
+            let kc = k.cells();
+            visible_cells(&g, from, max / 0.1, |i| kc[i] != CellState::Free, |i| {
+                let (dx, dy) = ((i % w) as f64 - from.x as f64, (i / w) as f64 - from.y as f64);
+                plain[i] = kc[i] == CellState::Free && dx * dx + dy * dy >= (min / 0.1).powi(2) - 1e-9;
+                false
+            });
+            let view = View::new(&k, from, range);
+            proptest::prop_assert_eq!(view.to_mask(&g), plain.clone());
+            for (i, &p) in plain.iter().enumerate() {
+                proptest::prop_assert_eq!(view.sees(g.cell(i)), p);
+            }
+        }
+    }
 
     #[test]
     fn certain_view_respects_unknown_and_range() {

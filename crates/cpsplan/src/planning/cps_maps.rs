@@ -27,8 +27,8 @@ use crate::geom::Cell;
 use crate::world::OccupancyGrid;
 
 /// Views kept at most; the cache starts afresh beyond this (each view is one flag
-/// per cell of its range disc's bounding box).
-const MAX_VIEWS: usize = 256;
+/// per cell of the rows its range disc spans).
+const MAX_VIEWS: usize = 64;
 
 /// Drivable cells with their Voronoi diagram.
 #[derive(Debug)]

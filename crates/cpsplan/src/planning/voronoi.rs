@@ -127,8 +127,39 @@ pub fn gvd(knowledge: &OccupancyGrid, trav: &Traversability) -> Gvd {
     let (feature, d2) = feature_transform(pw, ph, &obstacle);
     let component = components(pw, ph, &obstacle);
     let cos_min = MIN_EDGE_ANGLE_DEG.to_radians().cos();
+    let cos2_min = cos_min * cos_min;
     let passable = &trav.passable;
 
+    // Each straddling pair of 4-neighbours once: the pair of a window cell with
+    // its right neighbour and with its upper neighbour, and which of the two wins.
+    let mut right = vec![PAIR_NONE; pw * ph];
+    let mut up = vec![PAIR_NONE; pw * ph];
+    right
+        .par_chunks_mut(pw)
+        .zip(up.par_chunks_mut(pw))
+        .enumerate()
+        .skip(1)
+        .take(bh)
+        .for_each(|(py, (right_row, up_row))| {
+            for px in 1..=bw {
+                let p = Site::new(pw, px, py);
+                if obstacle[p.i] {
+                    continue;
+                }
+                for (q, out) in [
+                    (Site::new(pw, px + 1, py), &mut right_row[px]),
+                    (Site::new(pw, px, py + 1), &mut up_row[px]),
+                ] {
+                    if !obstacle[q.i] && straddles(pw, p, q, &feature, &d2, &component, cos2_min) {
+                        *out = if wins(p, q, &feature, &d2) {
+                            PAIR_FIRST
+                        } else {
+                            PAIR_SECOND
+                        };
+                    }
+                }
+            }
+        });
     skeleton[y0 * w..(y1 + 1) * w]
         .par_chunks_mut(w)
         .zip(clearance[y0 * w..(y1 + 1) * w].par_chunks_mut(w))
@@ -143,20 +174,11 @@ pub fn gvd(knowledge: &OccupancyGrid, trav: &Traversability) -> Gvd {
                 if !passable[y * w + x0 + bx] {
                     continue;
                 }
-                let (px, py) = (bx + 1, by + 1);
-                let p = Site::new(pw, px, py);
-                *s = [
-                    Site::new(pw, px + 1, py),
-                    Site::new(pw, px - 1, py),
-                    Site::new(pw, px, py + 1),
-                    Site::new(pw, px, py - 1),
-                ]
-                .into_iter()
-                .any(|q| {
-                    !obstacle[q.i]
-                        && straddles(pw, p, q, &feature, &d2, &component, cos_min)
-                        && wins(p, q, &feature, &d2)
-                });
+                let i = (by + 1) * pw + bx + 1;
+                *s = right[i] == PAIR_FIRST
+                    || right[i - 1] == PAIR_SECOND
+                    || up[i] == PAIR_FIRST
+                    || up[i - pw] == PAIR_SECOND;
             }
         });
     let edge_component = edge_components(g, passable, &skeleton);
@@ -212,7 +234,16 @@ fn dist2(c: Site, f: (u32, u32)) -> i64 {
     (c.x - f.0 as i64).pow(2) + (c.y - f.1 as i64).pow(2)
 }
 
-/// Whether neighbours `p` and `q` lie on different sides of a Voronoi edge.
+/// A pair of neighbours that straddles no edge.
+const PAIR_NONE: u8 = 0;
+/// The pair straddles an edge and its first cell (left or lower) wins.
+const PAIR_FIRST: u8 = 1;
+/// The pair straddles an edge and its second cell wins.
+const PAIR_SECOND: u8 = 2;
+
+/// Whether neighbours `p` and `q` lie on different sides of a Voronoi edge (a
+/// symmetric relation); `cos2_min` is the squared cosine of
+/// [`MIN_EDGE_ANGLE_DEG`].
 #[inline]
 fn straddles(
     pw: usize,
@@ -221,7 +252,7 @@ fn straddles(
     feature: &[(u32, u32)],
     d2: &[u32],
     component: &[u32],
-    cos_min: f64,
+    cos2_min: f64,
 ) -> bool {
     let (fp, fq) = (feature[p.i], feature[q.i]);
     if fp.0.abs_diff(fq.0) <= 1 && fp.1.abs_diff(fq.1) <= 1 {
@@ -233,8 +264,10 @@ fn straddles(
     }
     let vp = (fp.0 as i64 - p.x, fp.1 as i64 - p.y);
     let vq = (fq.0 as i64 - q.x, fq.1 as i64 - q.y);
-    let dot = (vp.0 * vq.0 + vp.1 * vq.1) as f64;
-    dot <= cos_min * ((d2[p.i] as f64) * (d2[q.i] as f64)).sqrt()
+    // The angle between the two directions is at least the minimum:
+    // dot ≤ cos_min · |vp| · |vq|, squared (cos_min > 0).
+    let dot = vp.0 * vq.0 + vp.1 * vq.1;
+    dot <= 0 || (dot as f64).powi(2) <= cos2_min * (d2[p.i] as f64) * (d2[q.i] as f64)
 }
 
 /// Whether `p` rather than its straddling neighbour `q` is the skeleton cell: the
