@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Runs the built-in maps under the paper's two regimes (α = 0, β = 0) and the
 # defaults, in normalized and literal scoring, and prints a Markdown table.
+# The parent plans alone (--children 0), as Eq. (1) is about the parent.
 # Usage: scripts/compare-weights.sh [SEED]
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -17,7 +18,7 @@ for scoring in normalized literal; do
     for map in office site tunnel; do
       out="$tmp/$scoring-$1-$2-$map"
       "$bin" explore --builtin "$map" --seed "$seed" --scoring "$scoring" \
-        --alpha "$1" --beta "$2" --out "$out" --quiet
+        --alpha "$1" --beta "$2" --children 0 --out "$out" --quiet
       python3 - "$out/summary.json" "$scoring" "$1" "$2" "$map" <<'PY'
 import json, sys
 s = json.load(open(sys.argv[1]))

@@ -8,6 +8,9 @@
 //! regions, Eq. 2, subgoals, Voronoi paths) on two site states, one whose move is a
 //! single cycle and one that retrieves subgoals, and its dearest stages.
 //!
+//! These groups plan for the parent alone (`children.count = 0`); `episode` also
+//! runs the site with the default team (`site_seed0_team`).
+//!
 //! The knowledge map is made deterministically: an office episode (seed 0) stopped
 //! after 15 scans; the parent stands where the 15th scan was taken. A second group
 //! repeats the two dearest stages after 100 scans, when most of the floor is known
@@ -47,6 +50,7 @@ struct MidEpisode {
 fn mid_episode(scans: usize) -> MidEpisode {
     let map = BuiltinMap::Office;
     let mut config = Config::default();
+    config.children.count = 0;
     config.mission.max_scans = scans;
     let truth = map.generate(0);
     let episode = run_episode(&truth, map.default_start(), &config, |_| {}).expect("episode");
@@ -167,19 +171,23 @@ fn late_stages(c: &mut Criterion) {
 fn episode(c: &mut Criterion) {
     let map = BuiltinMap::Site;
     let truth = map.generate(0);
-    let config = Config::default();
+    let mut alone = Config::default();
+    alone.children.count = 0;
+    let team = Config::default();
     let mut group = c.benchmark_group("episode");
     group
         .sample_size(10)
         .warm_up_time(Duration::from_secs(1))
         .measurement_time(Duration::from_secs(8));
-    group.bench_function("site_seed0", |b| {
-        b.iter(|| {
-            run_episode(black_box(&truth), map.default_start(), &config, |_| {})
-                .expect("episode")
-                .summary
-        })
-    });
+    for (name, config) in [("site_seed0", &alone), ("site_seed0_team", &team)] {
+        group.bench_function(name, |b| {
+            b.iter(|| {
+                run_episode(black_box(&truth), map.default_start(), config, |_| {})
+                    .expect("episode")
+                    .summary
+            })
+        });
+    }
     group.finish();
 }
 

@@ -2,6 +2,7 @@
 //! summary with the wall time to stdout.
 //!
 //! `cargo run --release -p cpsplan --example episode -- office 0 [ALPHA BETA]`
+//! (`CHILDREN=N` sets the number of children; default: the configuration's two).
 
 use cpsplan::world::builtin::BuiltinMap;
 use cpsplan::{run_episode, Config};
@@ -19,6 +20,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     }
     if let Some(b) = args.next() {
         config.parent.beta = b.parse()?;
+    }
+    if let Some(n) = std::env::var_os("CHILDREN") {
+        config.children.count = n.to_string_lossy().parse()?;
     }
     let truth = map.generate(seed);
     let t0 = std::time::Instant::now();
