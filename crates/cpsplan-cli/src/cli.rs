@@ -100,7 +100,7 @@ pub struct ExploreArgs {
     /// Stop after this many scans.
     #[arg(long, value_name = "N")]
     pub max_scans: Option<usize>,
-    /// Number of child robots; with children every move runs as CPS cycles.
+    /// Number of child robots (default 2); every move runs as CPS cycles with them, 0 lets the parent move alone.
     #[arg(long, value_name = "N")]
     pub children: Option<usize>,
     /// Seed of every random choice (and of the built-in map's layout).

@@ -1,9 +1,11 @@
 //! The mission loop (pipeline stage 8): scan, plan the parent's next position, move
-//! along a drivable path, scan again, until no reachable frontier remains or the
-//! scan limit is reached. Every step is recorded.
+//! the team there, scan again, until no reachable frontier remains or the scan
+//! limit is reached. Every step is recorded.
 //!
-//! In this version the parent moves alone; the CPS cycle with the children
-//! (paper Fig. 1) will run inside the move of each step.
+//! With children (the default: two) every move runs as CPS cycles (paper Fig. 1),
+//! planned by `cps`: the children into the AND region, then the parent, with
+//! subgoals when one cycle cannot make the move; without children the parent
+//! drives its shortest drivable path alone.
 
 mod cps;
 
