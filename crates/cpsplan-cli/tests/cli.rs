@@ -345,11 +345,11 @@ fn shared_campus_map_is_explored() {
     explore_shared(&dir, "cit_tsudanuma_campus", 0.99, &["--children", "0"]);
 }
 
-/// `plan` on the map `explore` had after its first scan gives the same first cycle.
-#[test]
-fn plan_matches_the_first_cycle_of_explore() {
-    let tmp = tempfile::tempdir().unwrap();
-    let out = tmp.path().join("first");
+/// The office after one scan with two children: the report directory (in `tmp`),
+/// the first step's record, and the `plan` arguments for that state (`--known`
+/// map, `--parent`, two `--child`).
+fn first_office_step(tmp: &Path) -> (Value, Vec<String>) {
+    let out = tmp.join("first");
     cpsplan()
         .args([
             "explore",
@@ -367,16 +367,27 @@ fn plan_matches_the_first_cycle_of_explore() {
         .success();
     let ep: Value =
         serde_json::from_str(&std::fs::read_to_string(out.join("episode.json")).unwrap()).unwrap();
-    let step = &ep["steps"][0];
+    let step = ep["steps"][0].clone();
     let xy = |p: &Value| format!("{},{}", p["x"].as_f64().unwrap(), p["y"].as_f64().unwrap());
-    let result = cpsplan()
-        .args(["plan", "--known"])
-        .arg(out.join("knowledge.yaml"))
-        .args(["--parent", &xy(&ep["start"])])
-        .args(["--child", &xy(&step["children"][0])])
-        .args(["--child", &xy(&step["children"][1])])
-        .output()
-        .unwrap();
+    let args = vec![
+        "--known".to_string(),
+        out.join("knowledge.yaml").display().to_string(),
+        "--parent".into(),
+        xy(&ep["start"]),
+        "--child".into(),
+        xy(&step["children"][0]),
+        "--child".into(),
+        xy(&step["children"][1]),
+    ];
+    (step, args)
+}
+
+/// `plan` on the map `explore` had after its first scan gives the same first cycle.
+#[test]
+fn plan_matches_the_first_cycle_of_explore() {
+    let tmp = tempfile::tempdir().unwrap();
+    let (step, plan_args) = first_office_step(tmp.path());
+    let result = cpsplan().arg("plan").args(&plan_args).output().unwrap();
     assert!(
         result.status.success(),
         "{}",
@@ -500,33 +511,11 @@ fn step_figure_numbers_must_be_scan_numbers() {
 #[test]
 fn plan_figure_writes_a_png() {
     let tmp = tempfile::tempdir().unwrap();
-    let out = tmp.path().join("first");
-    cpsplan()
-        .args([
-            "explore",
-            "--builtin",
-            "office",
-            "--children",
-            "2",
-            "--max-scans",
-            "1",
-            "--quiet",
-            "--out",
-        ])
-        .arg(&out)
-        .assert()
-        .success();
-    let ep: Value =
-        serde_json::from_str(&std::fs::read_to_string(out.join("episode.json")).unwrap()).unwrap();
-    let step = &ep["steps"][0];
-    let xy = |p: &Value| format!("{},{}", p["x"].as_f64().unwrap(), p["y"].as_f64().unwrap());
+    let (_, plan_args) = first_office_step(tmp.path());
     let figure = tmp.path().join("plan.png");
     let result = cpsplan()
-        .args(["plan", "--known"])
-        .arg(out.join("knowledge.yaml"))
-        .args(["--parent", &xy(&ep["start"])])
-        .args(["--child", &xy(&step["children"][0])])
-        .args(["--child", &xy(&step["children"][1])])
+        .arg("plan")
+        .args(&plan_args)
         .arg("--figure")
         .arg(&figure)
         .output()
@@ -544,10 +533,8 @@ fn plan_figure_writes_a_png() {
     // An unwritable figure path is a clean error.
     let bad = tmp.path().join("no-such-dir").join("plan.png");
     let result = cpsplan()
-        .args(["plan", "--known"])
-        .arg(out.join("knowledge.yaml"))
-        .args(["--parent", &xy(&ep["start"])])
-        .args(["--child", &xy(&step["children"][0])])
+        .arg("plan")
+        .args(&plan_args[..6])
         .arg("--figure")
         .arg(&bad)
         .output()

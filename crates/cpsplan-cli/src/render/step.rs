@@ -98,19 +98,7 @@ impl<'a> StepView<'a> {
     /// The parent's path: its CPS cycles' paths, or without cycles the planned path
     /// to the target.
     fn parent_path(&self) -> Vec<Point> {
-        if self.movement.cycles.is_empty() {
-            if self.target().is_some() {
-                self.plan.path.clone()
-            } else {
-                Vec::new()
-            }
-        } else {
-            self.movement
-                .cycles
-                .iter()
-                .flat_map(|c| c.parent_path.iter().copied())
-                .collect()
-        }
+        cpsplan::mission::parent_path(self.plan, self.movement)
     }
 
     /// Every point the figure draws, world frame.

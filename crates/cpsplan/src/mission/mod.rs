@@ -99,19 +99,25 @@ pub struct Step {
 }
 
 impl Step {
-    /// The path the parent drove after this step, world frame: its CPS cycles'
-    /// paths when it moved by cycles, else the planned path (empty when the
-    /// mission stopped here).
+    /// The path the parent drove after this step, world frame
+    /// ([`parent_path`]).
     pub fn driven_path(&self) -> Vec<Point> {
-        if self.movement.cycles.is_empty() {
-            self.plan.path.clone()
-        } else {
-            self.movement
-                .cycles
-                .iter()
-                .flat_map(|c| c.parent_path.iter().copied())
-                .collect()
-        }
+        parent_path(&self.plan, &self.movement)
+    }
+}
+
+/// The parent's path of a planning round and its move, world frame: the CPS
+/// cycles' paths when it moves by cycles, else the planned path (empty without a
+/// target).
+pub fn parent_path(plan: &ParentPlan, movement: &MoveRecord) -> Vec<Point> {
+    if movement.cycles.is_empty() {
+        plan.path.clone()
+    } else {
+        movement
+            .cycles
+            .iter()
+            .flat_map(|c| c.parent_path.iter().copied())
+            .collect()
     }
 }
 
