@@ -4,7 +4,7 @@
 //!
 //! A child already in its AND region stays (section IV-B); the others are placed
 //! jointly by Eq. (2) ([`place_children`]); each moving child drives along the
-//! Voronoi edges of the known map ([`voronoi_path`]). When a moving child has no
+//! Voronoi edges of the known map ([`super::voronoi::voronoi_path`]). When a moving child has no
 //! AND region at all, the cycle cannot be planned and the caller retrieves
 //! subgoals (section IV-C).
 
