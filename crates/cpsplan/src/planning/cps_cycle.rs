@@ -113,13 +113,25 @@ pub fn place_cycle(
         .map(|s| children[s])
         .collect();
     let sep2 = (2.0 * params.child_radius / g.resolution).powi(2);
+    // Clearance (Eq. 2's 1/P) of every cell any moving child may take, at once.
+    let mut candidates: Vec<u32> = movers
+        .iter()
+        .flat_map(|&i| regions[i].cells.iter().copied())
+        .collect();
+    candidates.sort_unstable();
+    candidates.dedup();
+    let clearance = maps.clearances(&candidates);
+    let clearance_of = |j: u32| {
+        let k = candidates.binary_search(&j);
+        clearance[k.expect("every region cell is a candidate")]
+    };
     let spots: Vec<Vec<Spot>> = movers
         .iter()
         .map(|&i| {
             regions[i]
                 .cells
                 .iter()
-                .map(|&j| (j as usize, g.cell(j as usize)))
+                .map(|&j| (j, g.cell(j as usize)))
                 // Keep clear of children that stay.
                 .filter(|&(_, c)| {
                     staying.iter().all(|s| {
@@ -129,7 +141,7 @@ pub fn place_cycle(
                 })
                 .map(|(j, cell)| Spot {
                     cell,
-                    clearance: maps.clearance_m(j),
+                    clearance: clearance_of(j),
                 })
                 .collect()
         })

@@ -18,13 +18,15 @@ use std::sync::Arc;
 
 use super::and_region::{seen_by_both, ChildReach, View};
 use super::cps_cycle::CycleParams;
+use super::distance::transform;
 use super::reach::{sweep, DistanceField, UNREACHED};
 use super::terrain::Terrain;
+use super::traversability::clearance_metres;
 use super::visgraph::VisibilityGraph;
 use super::voronoi::{gvd, voronoi_path, Gvd};
 use super::{ParentReach, Traversability};
 use crate::geom::Cell;
-use crate::world::OccupancyGrid;
+use crate::world::{CellState, OccupancyGrid};
 
 /// Views kept at most; the cache starts afresh beyond this (each view is one flag
 /// per cell of the rows its range disc spans).
@@ -186,6 +188,48 @@ impl<'k> CpsMaps<'k> {
             .clearance_capped(index, self.params.eq2.clearance_cap) as f64
     }
 
+    /// [`Self::clearance_m`] of every cell in `cells` (grid indices), from one
+    /// exact distance transform of their bounding box widened by the cap: an
+    /// Occupied cell nearer than the cap to any of them lies inside, and farther
+    /// ones only give values the cap replaces.
+    pub fn clearances(&self, cells: &[u32]) -> Vec<f64> {
+        let g = self.knowledge.geometry();
+        let w = g.width;
+        let Some(bounds) =
+            cells
+                .iter()
+                .fold(None, |b: Option<(usize, usize, usize, usize)>, &i| {
+                    let (x, y) = (i as usize % w, i as usize / w);
+                    Some(match b {
+                        None => (x, y, x, y),
+                        Some((x0, y0, x1, y1)) => (x0.min(x), y0.min(y), x1.max(x), y1.max(y)),
+                    })
+                })
+        else {
+            return Vec::new();
+        };
+        let cap = self.params.eq2.clearance_cap;
+        let res = g.resolution;
+        let margin = (cap / res + 0.5).ceil() as usize + 1;
+        let x0 = bounds.0.saturating_sub(margin);
+        let y0 = bounds.1.saturating_sub(margin);
+        let x1 = (bounds.2 + margin).min(w - 1);
+        let y1 = (bounds.3 + margin).min(g.height - 1);
+        let bw = x1 + 1 - x0;
+        let k = self.knowledge.cells();
+        let d = transform(bw, y1 + 1 - y0, |x, y| {
+            k[(y0 + y) * w + x0 + x] == CellState::Occupied
+        });
+        cells
+            .iter()
+            .map(|&i| {
+                let (x, y) = (i as usize % w, i as usize / w);
+                let cells_away = d[(y - y0) * bw + (x - x0)];
+                clearance_metres(cells_away, res).min(cap as f32) as f64
+            })
+            .collect()
+    }
+
     /// The knowledge map.
     pub fn knowledge(&self) -> &'k OccupancyGrid {
         self.knowledge
@@ -269,5 +313,42 @@ impl<'k> CpsMaps<'k> {
         self.graph.get_or_init(|| {
             VisibilityGraph::build(self.knowledge, &self.parent_roads().terrain.trav)
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::planning::cps_cycle::tests::params;
+    use crate::world::GridGeometry;
+    use crate::Point;
+    use proptest::prelude::*;
+
+    proptest! {
+        #![proptest_config(ProptestConfig { cases: 32, ..ProptestConfig::default() })]
+
+        /// The windowed transform gives every cell the capped column-walk value.
+        #[test]
+        fn clearances_match_the_capped_walk(
+            rects in proptest::collection::vec((0usize..60, 0usize..50, 1usize..8, 1usize..8), 0..10),
+            unknown in (0usize..60, 0usize..50, 0usize..20, 0usize..20),
+            picks in proptest::collection::vec(0usize..3000, 1..40),
+        ) {
+            let g = GridGeometry::new(60, 50, 0.1, Point::default());
+            let mut k = OccupancyGrid::filled(g, CellState::Free);
+            for (x, y, w, h) in rects {
+                k.fill_rect(x, y, x + w, y + h, CellState::Occupied);
+            }
+            let (ux, uy, uw, uh) = unknown;
+            k.fill_rect(ux, uy, ux + uw, uy + uh, CellState::Unknown);
+            let maps = CpsMaps::new(&k, Cell::new(1, 1), 0.25, &params());
+            let mut cells: Vec<u32> = picks.into_iter().map(|p| p as u32).collect();
+            cells.sort_unstable();
+            cells.dedup();
+            let got = maps.clearances(&cells);
+            for (&c, &v) in cells.iter().zip(&got) {
+                prop_assert_eq!(v.to_bits(), maps.clearance_m(c as usize).to_bits(), "cell {}", c);
+            }
+        }
     }
 }

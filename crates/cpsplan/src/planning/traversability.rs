@@ -59,7 +59,7 @@ struct OccupiedColumns {
 /// The clearance rule in metres for a centre distance of `d` cells: the centre
 /// distance minus half a cell, at least 0.
 #[inline]
-fn clearance_metres(d: f32, res: f64) -> f32 {
+pub(crate) fn clearance_metres(d: f32, res: f64) -> f32 {
     ((d - 0.5).max(0.0) as f64 * res) as f32
 }
 
