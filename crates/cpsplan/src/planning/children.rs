@@ -106,8 +106,8 @@ fn score(spots: &[Spot], g: &GridGeometry, target: Cell, w: &Eq2) -> Vec<Scored>
             }
         })
         .collect();
-    // Decreasing own value, ties by cell, for a deterministic order.
-    out.sort_by(|a, b| b.own.total_cmp(&a.own).then(a.cell.cmp(&b.cell)));
+    // Decreasing own value, ties by cell: a total order, so the unstable sort is deterministic.
+    out.sort_unstable_by(|a, b| b.own.total_cmp(&a.own).then(a.cell.cmp(&b.cell)));
     out
 }
 
