@@ -103,6 +103,15 @@ fn explore_builtin_site_writes_every_output() {
         for pair in cycles.windows(2) {
             assert_eq!(pair[0]["parent_to"], pair[1]["parent_from"]);
         }
+        // The Visibility Graph path the subgoals came from runs from the parent
+        // to the target.
+        let graph = step["move"]["graph_path"].as_array().unwrap();
+        assert!(graph.len() >= 2, "{}", step["scan"]);
+        assert_eq!(graph[0], cycles[0]["parent_from"]);
+        assert_eq!(
+            graph[graph.len() - 1],
+            cycles[cycles.len() - 1]["parent_to"]
+        );
     }
     // metrics.csv: a header and one row per scan.
     let csv = std::fs::read_to_string(out.join("metrics.csv")).unwrap();

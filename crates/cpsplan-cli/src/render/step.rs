@@ -796,12 +796,16 @@ fn draw_overlay(
         }
     }
 
-    // The Visibility Graph path through the subgoals.
+    // The Visibility Graph path the subgoals were taken from (or, in records
+    // without it, the path through the subgoals).
     let subgoals = step.subgoals();
     let mut paths: Vec<Vec<(f32, f32)>> = Vec::new();
     if step.movement.subgoal_retrieval {
-        let mut vg: Vec<Point> = cycles.first().map(|c| c.parent_from).into_iter().collect();
-        vg.extend(cycles.iter().map(|c| c.parent_to));
+        let mut vg: Vec<Point> = step.movement.graph_path.clone();
+        if vg.is_empty() {
+            vg.extend(cycles.first().map(|c| c.parent_from));
+            vg.extend(cycles.iter().map(|c| c.parent_to));
+        }
         let vg = to_px(layout, &vg);
         if let Some(path) = polyline(&vg) {
             canvas.stroke_dashed(

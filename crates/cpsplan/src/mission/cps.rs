@@ -74,6 +74,10 @@ pub struct MoveRecord {
     pub target: Option<usize>,
     /// Whether subgoals were retrieved.
     pub subgoal_retrieval: bool,
+    /// With subgoals: the Visibility Graph's shortest path they were taken from
+    /// (its corners, world frame, the parent's position first).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub graph_path: Vec<Point>,
     /// The cycles in order.
     pub cycles: Vec<CycleRecord>,
     /// Candidates tried first and given up.
@@ -289,6 +293,7 @@ fn finish(
 ) -> (MoveRecord, Option<Moved>) {
     record.target = Some(index);
     record.subgoal_retrieval = m.retrieved;
+    record.graph_path = to_world(maps.knowledge().geometry(), &m.graph_path);
     let mut parent_len = 0.0;
     let mut child_len = vec![0.0; children.len()];
     for cycle in &m.cycles {

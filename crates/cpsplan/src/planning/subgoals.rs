@@ -31,6 +31,9 @@ pub struct MovePlan {
     pub cycles: Vec<CpsCycle>,
     /// Whether subgoals had to be retrieved (more than the direct cycle).
     pub retrieved: bool,
+    /// The Visibility Graph's shortest path the subgoals were taken from (its
+    /// corners, `from` first; empty when the direct cycle sufficed).
+    pub graph_path: Vec<Cell>,
 }
 
 /// Why a move cannot be planned.
@@ -68,18 +71,22 @@ pub fn plan_move_in(
     to: Cell,
     children: &[Cell],
 ) -> Result<MovePlan, MoveError> {
-    let drive = |mut cycles: Vec<CpsCycle>, retrieved: bool| -> Result<MovePlan, MoveError> {
+    let drive = |mut cycles: Vec<CpsCycle>, graph_path: Vec<Cell>| -> Result<MovePlan, MoveError> {
         for c in &mut cycles {
             drive_children(maps, c).map_err(|_| MoveError::Stuck { at: c.parent_from })?;
         }
-        Ok(MovePlan { cycles, retrieved })
+        Ok(MovePlan {
+            cycles,
+            retrieved: !graph_path.is_empty(),
+            graph_path,
+        })
     };
     let reach_of =
         |kids: &[Cell]| -> Vec<ChildReach> { kids.iter().map(|&c| maps.reach(c)).collect() };
     let mut reach = reach_of(children);
     // Step 1.
     match place_cycle(maps, from, to, children, &reach) {
-        Ok(cycle) => return drive(vec![cycle], false),
+        Ok(cycle) => return drive(vec![cycle], Vec::new()),
         Err(CycleError::NoAndRegion { .. } | CycleError::NoJointPlacement) => {}
     }
     // Step 2.
@@ -120,7 +127,7 @@ pub fn plan_move_in(
         cycles.push(cycle);
         here = j;
     }
-    drive(cycles, true)
+    drive(cycles, corners)
 }
 
 /// Spacing, in cells, of the extra subgoals on a straight Visibility Graph leg: a
@@ -172,6 +179,13 @@ mod tests {
         let plan = plan_move(&k, from, to, &children, 0.25, &params()).unwrap();
         assert!(plan.retrieved);
         assert!(plan.cycles.len() >= 2, "{} cycles", plan.cycles.len());
+        assert_eq!(plan.graph_path.first(), Some(&from));
+        assert_eq!(plan.graph_path.last(), Some(&to));
+        assert!(
+            plan.graph_path.len() >= 3,
+            "a U-turn bends: {:?}",
+            plan.graph_path
+        );
         assert_eq!(plan.cycles[0].parent_from, from);
         assert_eq!(plan.cycles.last().unwrap().parent_to, to);
         let link = params().link;
@@ -242,6 +256,7 @@ mod tests {
         )
         .unwrap();
         assert!(!plan.retrieved);
+        assert!(plan.graph_path.is_empty());
         assert_eq!(plan.cycles.len(), 1);
     }
 
