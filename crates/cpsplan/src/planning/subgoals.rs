@@ -89,8 +89,17 @@ pub fn plan_move_in(
         Ok(cycle) => return drive(vec![cycle], Vec::new()),
         Err(CycleError::NoAndRegion { .. } | CycleError::NoJointPlacement) => {}
     }
-    // Step 2.
-    let trav = &maps.parent_terrain().trav;
+    // Step 2. No drivable path at all means no Visibility Graph path either (its
+    // legs are drivable), which the graph would find out only after searching
+    // every vertex.
+    let terrain = maps.parent_terrain();
+    let g = maps.knowledge().geometry();
+    if terrain.region_of(g.index(to)).is_none()
+        || terrain.region_of(g.index(to)) != terrain.region_of(g.index(from))
+    {
+        return Err(MoveError::NoPath);
+    }
+    let trav = &terrain.trav;
     let corners = maps
         .visibility_graph()
         .shortest_path(maps.knowledge().geometry(), trav, from, to)
