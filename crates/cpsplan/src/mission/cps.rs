@@ -251,13 +251,19 @@ pub fn execute_move(
         let target = plan.candidates[index].cell;
         match plan_move_in(&maps, here, target, children) {
             Ok(m) => return finish(&maps, record, index, target, children, &m),
-            Err(e) => record.rejected.push(RejectedTarget {
-                candidate: index,
-                reason: match e {
-                    MoveError::NoPath => "no Visibility Graph path".into(),
-                    MoveError::Stuck { .. } => e.to_string(),
-                },
-            }),
+            Err(e) => {
+                record.rejected.push(RejectedTarget {
+                    candidate: index,
+                    reason: match e {
+                        MoveError::NoPath => "no Visibility Graph path".into(),
+                        MoveError::Stuck { .. } | MoveError::ChildCutOff { .. } => e.to_string(),
+                    },
+                });
+                if let MoveError::ChildCutOff { .. } = e {
+                    // The same for every target: nothing else to try.
+                    return (record, None);
+                }
+            }
         }
     }
     for &index in order.iter().take(RELOCATE_CANDIDATES) {

@@ -104,6 +104,16 @@ impl View {
             && self.mask[(cell.y - self.y0) * self.stride + cell.x]
     }
 
+    /// The grid indices of the cells seen, ascending.
+    pub fn cells(&self) -> impl Iterator<Item = usize> + '_ {
+        let start = self.y0 * self.stride;
+        self.mask
+            .iter()
+            .enumerate()
+            .filter(|&(_, &seen)| seen)
+            .map(move |(i, _)| start + i)
+    }
+
     /// The view as a mask over all cells of a grid of `geometry`.
     pub fn to_mask(&self, geometry: &GridGeometry) -> Vec<bool> {
         let mut out = vec![false; geometry.len()];

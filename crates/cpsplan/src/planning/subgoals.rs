@@ -48,6 +48,13 @@ pub enum MoveError {
         /// Where the retrieval stopped.
         at: Cell,
     },
+    /// A child can reach no spot the parent sees from where it stands, so no
+    /// cycle can start there, whatever the target.
+    #[error("child {} can reach no spot the parent sees", child + 1)]
+    ChildCutOff {
+        /// Index of the child.
+        child: usize,
+    },
 }
 
 /// Plans the cycles that take the parent (radius `parent_radius`) from `from` to
@@ -84,6 +91,16 @@ pub fn plan_move_in(
     let reach_of =
         |kids: &[Cell]| -> Vec<ChildReach> { kids.iter().map(|&c| maps.reach(c)).collect() };
     let mut reach = reach_of(children);
+    // Every child must stand, during the first cycle, on a spot the parent sees
+    // from here: without one, no target can be reached (checked once, cheaply,
+    // instead of through every subgoal of every candidate).
+    let view = maps.view(from);
+    if let Some(child) = reach
+        .iter()
+        .position(|r| !view.cells().any(|i| r.reaches(i)))
+    {
+        return Err(MoveError::ChildCutOff { child });
+    }
     // Step 1.
     match place_cycle(maps, from, to, children, &reach) {
         Ok(cycle) => return drive(vec![cycle], Vec::new()),
@@ -250,6 +267,23 @@ mod tests {
                 assert!(sees[g.index(cycle.parent_from)] && sees[g.index(cycle.parent_to)]);
             }
         }
+    }
+
+    #[test]
+    fn a_child_cut_off_from_the_parent_is_reported_at_once() {
+        let mut k = u_corridor();
+        // A pocket around the second child, walled off from the corridor.
+        k.fill_rect(4, 40, 26, 42, CellState::Occupied);
+        k.fill_rect(4, 60, 26, 62, CellState::Occupied);
+        let r = plan_move(
+            &k,
+            Cell::new(15, 10),
+            Cell::new(105, 10),
+            &[Cell::new(15, 20), Cell::new(15, 50)],
+            0.25,
+            &params(),
+        );
+        assert_eq!(r, Err(MoveError::ChildCutOff { child: 1 }));
     }
 
     #[test]
