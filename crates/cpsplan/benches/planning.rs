@@ -19,7 +19,8 @@
 use std::hint::black_box;
 use std::time::Duration;
 
-use criterion::{criterion_group, criterion_main, Criterion};
+use criterion::measurement::WallTime;
+use criterion::{criterion_group, criterion_main, BenchmarkGroup, Criterion};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
@@ -35,7 +36,7 @@ use cpsplan::planning::voronoi::gvd;
 use cpsplan::planning::{plan_parent, Traversability};
 use cpsplan::sensing::expected_gain;
 use cpsplan::world::builtin::BuiltinMap;
-use cpsplan::{run_episode, run_episode_with, Config, OccupancyGrid};
+use cpsplan::{run_episode, run_episode_with, Config, GridGeometry, OccupancyGrid};
 
 /// The office knowledge map after 15 scans, the parent's cell, the last plan's
 /// target cell and its band samples (cell units).
@@ -77,6 +78,18 @@ fn mid_episode(scans: usize) -> MidEpisode {
     }
 }
 
+/// The travel-distance sweep from the parent over its passable cells.
+fn bench_reach_sweep(
+    group: &mut BenchmarkGroup<'_, WallTime>,
+    g: &GridGeometry,
+    trav: &Traversability,
+    parent: Cell,
+) {
+    group.bench_function("reach_sweep", |b| {
+        b.iter(|| sweep(g, black_box(&trav.passable), &[g.index(parent)], UNREACHED))
+    });
+}
+
 fn stages(c: &mut Criterion) {
     let m = mid_episode(15);
     let k = &m.knowledge;
@@ -94,16 +107,7 @@ fn stages(c: &mut Criterion) {
         b.iter(|| Traversability::new(black_box(k), radius, m.parent))
     });
     let trav = Traversability::new(k, radius, m.parent);
-    group.bench_function("reach_sweep", |b| {
-        b.iter(|| {
-            sweep(
-                &g,
-                black_box(&trav.passable),
-                &[g.index(m.parent)],
-                UNREACHED,
-            )
-        })
-    });
+    bench_reach_sweep(&mut group, &g, &trav, m.parent);
     group.bench_function("border_and_band", |b| {
         b.iter(|| {
             let border = border_cells(black_box(k));
@@ -149,16 +153,7 @@ fn late_stages(c: &mut Criterion) {
         .warm_up_time(Duration::from_millis(500))
         .measurement_time(Duration::from_secs(3));
     let trav = Traversability::new(k, config.robot.radius, m.parent);
-    group.bench_function("reach_sweep", |b| {
-        b.iter(|| {
-            sweep(
-                &g,
-                black_box(&trav.passable),
-                &[g.index(m.parent)],
-                UNREACHED,
-            )
-        })
-    });
+    bench_reach_sweep(&mut group, &g, &trav, m.parent);
     group.bench_function("plan_parent", |b| {
         b.iter(|| {
             let mut rng = ChaCha8Rng::seed_from_u64(7);

@@ -111,9 +111,8 @@ pub fn plan_move_in(
     // every vertex.
     let terrain = maps.parent_terrain();
     let g = maps.knowledge().geometry();
-    if terrain.region_of(g.index(to)).is_none()
-        || terrain.region_of(g.index(to)) != terrain.region_of(g.index(from))
-    {
+    let region = terrain.region_of(g.index(to));
+    if region.is_none() || region != terrain.region_of(g.index(from)) {
         return Err(MoveError::NoPath);
     }
     let trav = &terrain.trav;

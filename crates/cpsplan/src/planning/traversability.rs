@@ -120,12 +120,6 @@ impl Traversability {
     pub fn clearance_at(&self, index: usize) -> f32 {
         self.clearance.at(index)
     }
-
-    /// [`Self::clearance_at`] capped at `cap` metres; cheaper, as only the Occupied
-    /// cells nearer than the cap are looked for.
-    pub fn clearance_capped(&self, index: usize, cap: f64) -> f32 {
-        self.clearance.capped(index, cap)
-    }
 }
 
 impl OccupiedColumns {
@@ -172,20 +166,6 @@ impl OccupiedColumns {
     }
 
     fn at(&self, index: usize) -> f32 {
-        self.within(index, u64::MAX)
-    }
-
-    /// [`Self::at`], but not above `cap` metres: only Occupied cells nearer than
-    /// the cap are looked for.
-    fn capped(&self, index: usize, cap: f64) -> f32 {
-        // clearance_metres(d) ≥ cap once d ≥ cap / res + 0.5.
-        let beyond = ((cap / self.resolution + 0.5).powi(2).ceil() as u64).saturating_add(1);
-        self.within(index, beyond).min(cap as f32)
-    }
-
-    /// The clearance from Occupied cells at squared centre distances below
-    /// `limit` (infinite if there is none).
-    fn within(&self, index: usize, limit: u64) -> f32 {
         let (x, y) = (index % self.grid_width, index / self.grid_width);
         let Some((x0, y0, x1, y1)) = self.known else {
             return f32::INFINITY;
@@ -205,7 +185,7 @@ impl OccupiedColumns {
         };
         // Walk the columns outward; a column dx away cannot beat `best` once
         // dx² ≥ best.
-        let mut best = limit;
+        let mut best = u64::MAX;
         for dx in 0..bw {
             let dx2 = (dx * dx) as u64;
             if dx2 >= best || (dx > bx && bx + dx >= bw) {
@@ -217,7 +197,7 @@ impl OccupiedColumns {
                 }
             }
         }
-        if best == limit {
+        if best == u64::MAX {
             f32::INFINITY
         } else {
             clearance_metres(distance_of(best), self.resolution)
@@ -630,13 +610,6 @@ mod tests {
             let (clearance, traversable) = reference(&k, radius);
             for (i, c) in clearance.iter().enumerate() {
                 proptest::prop_assert_eq!(t.clearance_at(i).to_bits(), c.to_bits(), "clearance at {}", i);
-                for cap in [0.05, 0.3, 1.0, 2.6] {
-                    proptest::prop_assert_eq!(
-                        t.clearance_capped(i, cap).to_bits(),
-                        t.clearance_at(i).min(cap as f32).to_bits(),
-                        "capped clearance at {}", i
-                    );
-                }
             }
             proptest::prop_assert_eq!(t.traversable, traversable);
         }

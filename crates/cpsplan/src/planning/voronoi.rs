@@ -7,15 +7,18 @@
 //! # The diagram ([`gvd`])
 //!
 //! *Obstacles* are all non-Free cells of the knowledge map (Unknown is as solid as
-//! Occupied) plus a one-cell ring around the grid, so that the grid's edge is an
-//! obstacle too.
+//! Occupied) plus the grid's edge. Everything outside the bounding box of the Free
+//! cells is an obstacle, so the diagram is computed in that box plus a one-cell
+//! ring of obstacle cells (the *window*).
 //!
 //! 1. An exact Euclidean *feature transform* gives every cell its nearest obstacle
 //!    cell: per column the nearest obstacle row (two linear sweeps, Meijster et al.
 //!    2000), then per row the lower envelope of parabolas (Felzenszwalb &
-//!    Huttenlocher 2012), rows in parallel. The ring puts an obstacle in every
-//!    column, so every cell has a feature.
-//! 2. The obstacles are labelled by their 8-connected components (flood fill).
+//!    Huttenlocher 2012, breakpoints compared exactly in integers), rows in
+//!    parallel ([`super::distance`]). The ring puts an obstacle in every column, so
+//!    every cell has a feature.
+//! 2. The obstacles are labelled by their 8-connected components (union-find over
+//!    the row runs of obstacle cells).
 //! 3. Two 4-neighbouring non-obstacle cells `p`, `q` *straddle* a Voronoi edge when
 //!    their nearest obstacle cells `f(p)`, `f(q)` are not 8-adjacent and either lie
 //!    in different components or are seen in directions `f(p) − p`, `f(q) − q` at
@@ -24,36 +27,35 @@
 //!    at its ends, a room), which the component test alone would miss; the
 //!    adjacency test keeps the two sides of one straight wall from making an edge.
 //!    Concave corners of at least `180° − MIN_EDGE_ANGLE_DEG` interior angle get
-//!    their bisector spur, as in the exact GVD.
+//!    their bisector spur, as in the exact GVD. Each pair is tested once.
 //! 4. Of a straddling pair only the cell nearer to equidistance is marked: the one
 //!    with the smaller excess `|p − f(q)| − |p − f(p)|` (ties: the lower index).
 //!    The result is a one-cell-wide, 8-connected skeleton. Only drivable cells
-//!    (`Traversability::passable`) are kept.
+//!    (`Traversability::passable`) are kept, and their connected parts are
+//!    labelled ([`Gvd::edge_component`]).
 //!
 //! Parameters: [`MIN_EDGE_ANGLE_DEG`]; the robot radius enters through the
-//! [`Traversability`] masks. Cost: O(cells) time and a handful of O(cells) buffers,
-//! no per-cell allocation. An 800 × 600 map takes about 10 ms on two busy cores,
-//! some three times [`super::distance::distance_transform`] of the same map.
+//! [`Traversability`] masks. Cost: O(cells of the window) time and a handful of
+//! buffers of that size, no per-cell allocation; an 800 × 600 map takes about 5 ms
+//! (docs/PERFORMANCE.md).
 //!
 //! # The motion ([`voronoi_path`])
 //!
-//! One sweep of the travel distance (Dial's Dijkstra, [`super::reach::sweep`]) from
-//! the start decides reachability. The *entry* is the skeleton cell the start
-//! reaches most cheaply; a Dijkstra over the skeleton cells (8-connected, diagonal
-//! steps not cutting a non-drivable corner) from the entry finds the *exit*, the
-//! skeleton cell connected to the entry that is cheapest to reach from the target
-//! (a second sweep, from the target). The path is the cheapest drivable path to the
-//! entry, the skeleton path to the exit and the cheapest drivable path from the
-//! exit to the target. If the start reaches no skeleton cell or the exit cannot be
-//! connected, it falls back to the plain cheapest drivable path.
+//! Three early-stopping searches ([`super::search`]) with the travel sweep's step
+//! costs: from the start to the nearest skeleton cell (the *entry*); from the
+//! target to the nearest skeleton cell of the entry's connected part (the *exit*);
+//! A* along the skeleton from entry to exit (diagonal steps not cutting a
+//! non-drivable corner). The path is these three legs. If the start reaches no
+//! skeleton cell or the exit cannot be found, it falls back to the plain cheapest
+//! drivable path (A*); `None` if the target is not drivable or not reachable.
 //!
 //! Each leg is then shortened by string pulling: a waypoint is skipped only if every
 //! cell of the straight segment's supercover is drivable, so the clearance stays
 //! above the robot radius; on the skeleton leg a shortcut must also keep a
 //! clearance no smaller than the lowest clearance of the stretch of skeleton it
-//! replaces, so the robot still keeps to the middle. Cost: two sweeps O(cells), the
-//! skeleton Dijkstra O(s log s) for `s` skeleton cells, and string pulling
-//! O(k² · l) for a leg of `k` cells and segments of `l` cells.
+//! replaces, so the robot still keeps to the middle. Cost: the searches touch only
+//! the cells cheaper than their goal (O(v log v) for `v` of them), and string
+//! pulling O(k² · l) for a leg of `k` cells and segments of `l` cells.
 
 use rayon::prelude::*;
 
