@@ -1,6 +1,7 @@
 //! Command line, file formats, rendering and reports for cpsplan.
 
 pub mod cli;
+pub mod commands;
 pub mod formats;
 pub mod render;
 pub mod report;

@@ -24,17 +24,16 @@ use criterion::{criterion_group, criterion_main, BenchmarkGroup, Criterion};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
+use cpsplan::children::{and_region, ChildReach, CycleParams};
 use cpsplan::geom::{Cell, Point};
-use cpsplan::mission::{cycle_params, plan_step};
-use cpsplan::planning::and_region::{and_region, mutual_view, ChildReach};
-use cpsplan::planning::cps_maps::Groundwork;
-use cpsplan::planning::frontier::{band, border_cells};
-use cpsplan::planning::kmeans::kmeans;
-use cpsplan::planning::reach::{sweep, UNREACHED};
-use cpsplan::planning::visgraph::VisibilityGraph;
-use cpsplan::planning::voronoi::gvd;
-use cpsplan::planning::{plan_parent, Traversability};
-use cpsplan::sensing::expected_gain;
+use cpsplan::grid::travel::sweep;
+use cpsplan::grid::{Traversability, UNREACHED};
+use cpsplan::mission::plan_step;
+use cpsplan::mission::Groundwork;
+use cpsplan::motion::gvd;
+use cpsplan::parent::{band, border_cells, kmeans, plan_parent};
+use cpsplan::sensing::{expected_gain, mutual_view};
+use cpsplan::subgoals::VisibilityGraph;
 use cpsplan::world::builtin::BuiltinMap;
 use cpsplan::{run_episode, run_episode_with, Config, GridGeometry, OccupancyGrid};
 
@@ -226,7 +225,7 @@ fn team_state(config: &Config, retrieved: bool) -> TeamState {
 fn team(c: &mut Criterion) {
     let mut config = Config::default();
     config.children.count = 2;
-    let params = cycle_params(&config);
+    let params = CycleParams::from_config(&config);
     let mut group = c.benchmark_group("site_team");
     group
         .sample_size(20)

@@ -1,16 +1,31 @@
 //! # cpsplan
 //!
 //! Scan planning for a cooperative multi-robot laser-scanning system (CPS-SLAM,
-//! Kurazume et al., IROS 2015). The modules follow the paper's pipeline (Fig. 3):
+//! Kurazume et al., IROS 2015). The modules follow the paper's pipeline (Fig. 3)
+//! in the order data flows, each resting only on the ones listed before it:
 //!
-//! - [`world`]: occupancy grids, built-in maps, resampling, coverage.
-//! - [`sensing`]: the simulated omni-directional scanner and exact grid visibility.
-//! - [`planning`]: the parent planner of section IV-A (border, band, k-means
-//!   candidates, Eq. 1 scores), the children's AND regions and Eq. 2 placements
-//!   (IV-B), subgoals on the Visibility Graph (IV-C), Voronoi-edge paths (IV-D) and
-//!   the CPS cycle that ties them together.
-//! - [`mission`]: the scan → plan → move loop (every move as CPS cycles with the
-//!   children), its records, and [`mission::plan_step`], one step for a real team.
+//! 1. [`geom`], [`config`]: points and cells; every parameter of a run.
+//! 2. [`grid`]: the occupancy grid and the grid algorithms every stage stands on
+//!    (distance transforms, travel-distance sweeps, searches, straight legs,
+//!    connected regions, drivable terrain).
+//! 3. [`world`]: maps, built-in maps, resampling to the planning resolution,
+//!    coverage, start ("transform 3D model to 2D grid map").
+//! 4. [`sensing`]: the omni-directional scanner, expected gain `S`, certain
+//!    visibility for CPS links.
+//! 5. [`parent`] (section IV-A): border, band, samples, k-means, Eq. (1), the
+//!    parent's target ("calculate candidate positions of parent robot", "determine
+//!    the optimum position of parent robot").
+//! 6. [`children`] (IV-B): AND region, Eq. (2), one CPS cycle ("calculate
+//!    candidate positions of child robots", "determine the optimum positions").
+//! 7. [`subgoals`] (IV-C): the Visibility Graph and subgoal retrieval ("set
+//!    subgoals for the parent robot using Visibility Graph").
+//! 8. [`motion`] (IV-D): the Generalized Voronoi Diagram and every robot's path
+//!    ("plan the trajectories to the target positions").
+//! 9. [`mission`]: the scan → plan → move loop, its records, and
+//!    [`mission::plan_step`], one step for a real team ("move to the target
+//!    positions").
+//!
+//! No module imports from a stage listed after it.
 //!
 //! # Example
 //!
@@ -28,14 +43,18 @@
 //! # Ok::<(), cpsplan::MissionError>(())
 //! ```
 
+pub mod children;
 pub mod config;
 pub mod geom;
+pub mod grid;
 pub mod mission;
-pub mod planning;
+pub mod motion;
+pub mod parent;
 pub mod sensing;
+pub mod subgoals;
 pub mod world;
 
 pub use config::Config;
 pub use geom::{Cell, Point};
-pub use mission::{run_episode, run_episode_with, Episode, MissionError, StopReason};
-pub use world::{CellState, GridGeometry, OccupancyGrid};
+pub use grid::{CellState, GridGeometry, OccupancyGrid};
+pub use mission::{plan_step, run_episode, run_episode_with, Episode, MissionError, StopReason};

@@ -3,7 +3,7 @@
 //! coverage never decreases, and `S` equals a brute-force count.
 
 use cpsplan::geom::{Cell, Point};
-use cpsplan::planning::line::segment_clear;
+use cpsplan::grid::line::segment_clear;
 use cpsplan::sensing::{expected_gain, scan};
 use cpsplan::world::{CellState, GridGeometry, OccupancyGrid};
 use cpsplan::{run_episode, run_episode_with, Config};
@@ -210,8 +210,8 @@ proptest! {
     #[test]
     fn cps_cycles_keep_their_links(truth in map_strategy(), pick in 0usize..10_000, seed in 0u64..1000) {
         use cpsplan::mission::cycle_and_regions;
-        use cpsplan::planning::and_region::{certain_view, LinkRange};
-        use cpsplan::planning::Traversability;
+        use cpsplan::sensing::{certain_view, LinkRange};
+        use cpsplan::grid::Traversability;
         let free = free_cells(&truth);
         prop_assume!(!free.is_empty());
         let g = *truth.geometry();

@@ -1,13 +1,173 @@
 //! The episode overlay: the parent's trajectory with direction arrows, the scan
 //! markers and their numbers, placed so that they do not hide one another.
 
-use cpsplan::{Episode, Point};
+use cpsplan::world::CoverageTracker;
+use cpsplan::{CellState, Episode, OccupancyGrid, Point, StopReason};
 use tiny_skia::PathBuilder;
 
 use super::canvas::{Canvas, Rgb};
-use super::chrome::{draw_arrow_midway, draw_marker, draw_subgoal, Style};
+use super::chrome::{Header, LegendItem, Style, Swatch};
+use super::layout::{check_geometry, Class, Frame, MapLayout};
+use super::marks::{draw_arrow_midway, draw_marker, draw_subgoal};
+use super::palette;
 use super::placer::{draw_label, label_size, Placer};
-use super::{palette, MapLayout};
+use super::RenderError;
+
+/// Draws a simulated episode as PNG.
+///
+/// `truth` is the ground truth the episode ran on, at the geometry of
+/// `episode.knowledge`. The picture shows the final knowledge map (free white,
+/// occupied near-black, unknown grey) with reachable free cells that were never seen
+/// tinted light orange and never-seen walls bordering them a darker orange; the
+/// parent's driven paths with direction arrows; the children's paths; every scan
+/// position numbered in order (start green, last red); the intermediate subgoals of
+/// every driven move that retrieved them (section IV-C) as small dark diamonds; a
+/// header with `title`, the episode's summary and a legend; and a scale bar. Without
+/// a knowledge map the ground truth is drawn.
+pub fn render_episode(
+    truth: &OccupancyGrid,
+    episode: &Episode,
+    title: &str,
+) -> Result<Vec<u8>, RenderError> {
+    draw_episode(truth, episode, title)?.canvas.encode()
+}
+
+pub(super) fn draw_episode(
+    truth: &OccupancyGrid,
+    episode: &Episode,
+    title: &str,
+) -> Result<Frame, RenderError> {
+    let g = *truth.geometry();
+    check_geometry(&g)?;
+    let knowledge = episode.knowledge.as_ref();
+    if let Some(k) = knowledge {
+        if (k.width(), k.height()) != (g.width, g.height) {
+            return Err(RenderError::GeometryMismatch {
+                truth_width: g.width,
+                truth_height: g.height,
+                knowledge_width: k.width(),
+                knowledge_height: k.height(),
+            });
+        }
+    }
+    let tracker = knowledge.and_then(|k| {
+        g.world_to_cell(episode.start)
+            .map(|start| CoverageTracker::new(truth, start, episode.config.robot.radius, k))
+    });
+
+    let mut legend = vec![
+        LegendItem {
+            swatch: Swatch::Cell(palette::FREE),
+            label: "free",
+        },
+        LegendItem {
+            swatch: Swatch::Cell(palette::OCCUPIED),
+            label: "occupied",
+        },
+        LegendItem {
+            swatch: Swatch::Cell(palette::UNKNOWN),
+            label: "unknown",
+        },
+    ];
+    if tracker.is_some() {
+        legend.push(LegendItem {
+            swatch: Swatch::Cell(palette::MISSED),
+            label: "missed",
+        });
+        legend.push(LegendItem {
+            swatch: Swatch::Cell(palette::MISSED_WALL),
+            label: "missed wall",
+        });
+        legend.push(LegendItem {
+            swatch: Swatch::Cell(palette::OUT_OF_REACH),
+            label: "out of reach",
+        });
+    }
+    const CHILD_LABELS: [&str; 4] = ["child 1", "child 2", "child 3", "child 4"];
+    let children = episode.config.children.count.min(4);
+    legend.extend([LegendItem {
+        swatch: Swatch::Line(palette::TRAJECTORY),
+        label: if children > 0 { "parent" } else { "trajectory" },
+    }]);
+    for (i, label) in CHILD_LABELS.iter().enumerate().take(children) {
+        legend.push(LegendItem {
+            swatch: Swatch::Line(palette::CHILDREN[i]),
+            label,
+        });
+    }
+    if !subgoals(episode).is_empty() {
+        legend.push(LegendItem {
+            swatch: Swatch::Subgoal,
+            label: "subgoal",
+        });
+    }
+    legend.extend([
+        LegendItem {
+            swatch: Swatch::Dot(palette::SCAN),
+            label: "scan",
+        },
+        LegendItem {
+            swatch: Swatch::Dot(palette::START),
+            label: "start",
+        },
+        LegendItem {
+            swatch: Swatch::Dot(palette::END),
+            label: "end",
+        },
+    ]);
+    let header = Header {
+        title,
+        lines: vec![summary_line(episode)],
+        legend,
+    };
+    let mut frame = Frame::new(&g, &header)?;
+    let truth_cells = truth.cells();
+    match (knowledge, &tracker) {
+        (Some(k), Some(t)) => {
+            let known = k.cells();
+            frame.layout.paint(&mut frame.canvas, |i| match known[i] {
+                CellState::Unknown if t.is_reachable_free(i) => Class::Missed,
+                CellState::Unknown if t.is_bordering_wall(i) => Class::MissedWall,
+                CellState::Unknown if t.is_connected_free(i) => Class::OutOfReach,
+                s => Class::of(s),
+            });
+        }
+        (Some(k), None) => {
+            let known = k.cells();
+            frame
+                .layout
+                .paint(&mut frame.canvas, |i| Class::of(known[i]));
+        }
+        (None, _) => frame
+            .layout
+            .paint(&mut frame.canvas, |i| Class::of(truth_cells[i])),
+    }
+    draw_overlay(&mut frame.canvas, &frame.layout, frame.style, episode);
+    Ok(frame)
+}
+
+/// "31 scans · coverage 99.6 % · walls 98.1 % · parent travel 512.3 m · stop: complete ·
+/// planner seed 0".
+fn summary_line(episode: &Episode) -> String {
+    let s = &episode.summary;
+    let stop = match s.stop_reason {
+        StopReason::Complete => "complete",
+        StopReason::NoReachableFrontier => "no reachable frontier",
+        StopReason::ScanLimit => "scan limit",
+        StopReason::NoCpsMove => "no CPS move",
+    };
+    format!(
+        "{} scan{} \u{b7} coverage {:.1} % \u{b7} walls {:.1} % \u{b7} parent travel {:.1} m \
+         \u{b7} stop: {} \u{b7} planner seed {}",
+        s.scans,
+        if s.scans == 1 { "" } else { "s" },
+        100.0 * s.coverage,
+        100.0 * s.wall_coverage,
+        s.parent_travel_m,
+        stop,
+        s.seed
+    )
+}
 
 /// The driven legs in canvas pixels: all points, and where each leg starts.
 struct Legs {
@@ -29,7 +189,7 @@ impl Legs {
 
 /// The children's driven paths, thin, one colour per child, under the parent's.
 fn draw_children(canvas: &mut Canvas, layout: &MapLayout, episode: &Episode) {
-    let colours = super::palette::CHILDREN;
+    let colours = palette::CHILDREN;
     for (n, colour) in (0..episode.config.children.count).zip(colours.iter().cycle()) {
         let mut pb = PathBuilder::new();
         let mut any = false;

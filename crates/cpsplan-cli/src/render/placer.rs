@@ -5,7 +5,8 @@ use tiny_skia::PathBuilder;
 
 use super::canvas::{text_width, Canvas, Rect, Rgb};
 use super::chrome::Style;
-use super::{palette, MapLayout};
+use super::layout::MapLayout;
+use super::palette;
 
 /// Greedy label placement: each label goes to the candidate spot around its marker
 /// that overlaps markers, earlier labels and the trajectory the least.

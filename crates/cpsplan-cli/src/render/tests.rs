@@ -1,7 +1,12 @@
 use cpsplan::{run_episode, Cell, CellState, Config, Episode, GridGeometry, OccupancyGrid, Point};
 use tiny_skia::Pixmap;
 
+use super::canvas::Rgb;
+use super::episode::draw_episode;
+use super::layout::{world_to_grid_xy, MapLayout};
+use super::map::draw_map;
 use super::*;
+use super::{chrome, palette};
 
 /// A 12 m × 8 m room (120 × 80 cells) split by a wall at x = 6 m with a door.
 fn two_rooms() -> OccupancyGrid {
@@ -354,7 +359,7 @@ fn step_figure_shows_and_regions_and_scored_candidates() {
 
     // Candidates: a marker of the score's colour at every eligible candidate clear
     // of the other markers; the scores span the ramp.
-    let eligible: Vec<&cpsplan::planning::Candidate> =
+    let eligible: Vec<&cpsplan::parent::Candidate> =
         step.plan.candidates.iter().filter(|c| c.eligible).collect();
     let lo = eligible.iter().map(|c| c.g).fold(f64::INFINITY, f64::min);
     let hi = eligible

@@ -1,14 +1,21 @@
-//! Sensing: the simulated omni-directional laser scanner on the parent robot
-//! (pipeline stage 2) and the exact grid visibility it shares with the planner.
+//! Sensing (pipeline stage 2): the simulated omni-directional laser scanner on the
+//! parent robot and the exact grid visibility it shares with the planner.
+//!
+//! In: the ground truth or the knowledge map and a position. Out: the cells a scan
+//! reveals ([`scan`]), the expected gain `S` of Eq. (1) ([`expected_gain`]), and the
+//! certain views that CPS links need ([`View`], [`mutual_view`]).
 //!
 //! Two visibility rules use the same sweep ([`visible_cells`]): the scanner sees
 //! the ground truth (everything but free space stops the beam), and the planner's
 //! expected gain `S` (Eq. 1) looks through Unknown cells, stopped only by known
 //! obstacles. Because both use one rule, a scan taken at a candidate reveals every
-//! cell that was counted in its `S` or the obstacle that hides it.
+//! cell that was counted in its `S` or the obstacle that hides it. CPS links use
+//! *certain* visibility: only known-Free cells let the beam through.
 
 mod scanner;
 mod shadowcast;
+mod view;
 
 pub use scanner::{expected_gain, scan, ScanOutcome};
 pub use shadowcast::visible_cells;
+pub use view::{certain_view, mutual_view, seen_by_both, LinkRange, View};

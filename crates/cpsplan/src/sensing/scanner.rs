@@ -5,7 +5,7 @@ use serde::{Deserialize, Serialize};
 
 use super::visible_cells;
 use crate::geom::Cell;
-use crate::world::{CellState, OccupancyGrid};
+use crate::grid::{CellState, OccupancyGrid};
 
 /// What one scan added to the knowledge map.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
@@ -113,7 +113,7 @@ pub fn expected_gain(knowledge: &OccupancyGrid, at: Cell, range_cells: f64, limi
 mod tests {
     use super::*;
     use crate::geom::Point;
-    use crate::world::GridGeometry;
+    use crate::grid::GridGeometry;
 
     fn room() -> OccupancyGrid {
         // 30×20 free room with a solid border and a pillar.

@@ -13,7 +13,7 @@
 //! Cost: O(number of cells swept), no allocation.
 
 use crate::geom::Cell;
-use crate::world::GridGeometry;
+use crate::grid::GridGeometry;
 
 /// A slope `num / den` (den > 0) as a column offset per row of depth.
 #[derive(Clone, Copy)]

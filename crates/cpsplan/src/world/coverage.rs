@@ -14,11 +14,11 @@
 //!   shut, laser streaks of a SLAM map): a stricter figure for comparison.
 
 use crate::geom::Cell;
-use crate::planning::distance::transform;
-use crate::planning::reach::{sweep, UNREACHED};
-use crate::planning::Traversability;
-use crate::world::region::flood4;
-use crate::world::{CellState, OccupancyGrid};
+use crate::grid::distance::transform;
+use crate::grid::region::flood4;
+use crate::grid::travel::{sweep, UNREACHED};
+use crate::grid::Traversability;
+use crate::grid::{CellState, OccupancyGrid};
 
 /// Tracks coverage incrementally as scans reveal cells.
 #[derive(Debug, Clone)]
@@ -157,7 +157,7 @@ fn ratio(a: usize, b: usize) -> f64 {
 mod tests {
     use super::*;
     use crate::geom::Point;
-    use crate::world::GridGeometry;
+    use crate::grid::GridGeometry;
 
     #[test]
     fn counts_only_what_the_robot_can_reach() {

@@ -1,14 +1,17 @@
-//! World: occupancy grids (ground truth and knowledge map), built-in procedural maps,
-//! resampling to the planning resolution, and coverage measures (pipeline stage 1).
+//! World (pipeline stage 1): the ground truth of a simulation and what is done
+//! with it before planning starts.
+//!
+//! In: a map ([`OccupancyGrid`], from a file or [`builtin`]). Out: the map at the
+//! planning resolution ([`resample_conservative`]), a start ([`default_start`]),
+//! and the coverage measures of an episode ([`CoverageTracker`]). Stands on
+//! [`crate::grid`] only; the grid types are re-exported here.
 
 pub mod builtin;
 mod coverage;
-mod grid;
-pub mod region;
 mod resample;
 mod start;
 
+pub use crate::grid::{CellState, GridGeometry, OccupancyGrid};
 pub use coverage::CoverageTracker;
-pub use grid::{CellState, GridGeometry, OccupancyGrid};
 pub use resample::resample_conservative;
 pub use start::default_start;

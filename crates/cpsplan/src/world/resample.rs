@@ -11,7 +11,7 @@
 //! Refining (target resolution finer than the source) is nearest-neighbour: every
 //! target cell takes the state of the source cell under its centre.
 
-use super::grid::{CellState, GridGeometry, OccupancyGrid};
+use crate::grid::{CellState, GridGeometry, OccupancyGrid};
 
 /// Resolutions closer than this (metres) are treated as equal.
 const SAME_RESOLUTION_TOLERANCE: f64 = 1e-9;

@@ -1,9 +1,9 @@
 //! A deterministic default start for maps that do not name one.
 
 use crate::geom::Point;
-use crate::planning::distance::distance_transform;
-use crate::world::region::label4;
-use crate::world::{CellState, OccupancyGrid};
+use crate::grid::distance::distance_transform;
+use crate::grid::region::label4;
+use crate::grid::{CellState, OccupancyGrid};
 
 /// The free cell with the largest clearance in the largest 4-connected free region
 /// (ties: lowest index), as a world point; `None` if the map has no free cell.
@@ -42,7 +42,7 @@ pub fn default_start(truth: &OccupancyGrid) -> Option<Point> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::world::GridGeometry;
+    use crate::grid::GridGeometry;
 
     #[test]
     fn picks_the_middle_of_the_biggest_room() {

@@ -21,8 +21,8 @@ use std::str::FromStr;
 
 use serde::{Deserialize, Serialize};
 
-use super::{CellState, GridGeometry, OccupancyGrid};
 use crate::geom::{Cell, Point};
+use crate::grid::{CellState, GridGeometry, OccupancyGrid};
 
 /// Columns of every built-in map (80 m at [`RESOLUTION`]).
 pub const WIDTH: usize = 800;
@@ -282,7 +282,7 @@ impl Canvas {
 
 /// The cells of `mask` 4-connected to `seed` (which must be in `mask`).
 fn flood4(mask: &[bool], w: usize, h: usize, seed: Cell) -> Vec<bool> {
-    super::region::flood4(w, h, seed.y * w + seed.x, |i| mask[i])
+    crate::grid::region::flood4(w, h, seed.y * w + seed.x, |i| mask[i])
 }
 
 /// Split `[start, end)` into spans of length `min..=max` separated by `gap` cells,

@@ -205,7 +205,7 @@ mod tests {
     use super::super::checks::{check_determinism, check_map};
     use super::super::{flood4, BuiltinMap};
     use crate::geom::Cell;
-    use crate::world::CellState;
+    use crate::grid::CellState;
 
     #[test]
     fn deterministic_and_seed_dependent() {

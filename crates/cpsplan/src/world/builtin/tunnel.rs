@@ -334,7 +334,7 @@ mod tests {
     use super::super::{flood4, BuiltinMap};
     use super::*;
     use crate::geom::Cell;
-    use crate::world::CellState;
+    use crate::grid::CellState;
 
     #[test]
     fn deterministic_and_seed_dependent() {

@@ -1,0 +1,159 @@
+//! `cpsplan explore`: one simulated episode on a map, and its report.
+
+use std::time::Instant;
+
+use anyhow::{bail, Result};
+use cpsplan::config::Scoring;
+use cpsplan::world::builtin::BuiltinMap;
+use cpsplan::world::{default_start, resample_conservative};
+use cpsplan::{run_episode_with, Config, OccupancyGrid, Point};
+use indicatif::{ProgressBar, ProgressStyle};
+
+use super::read_config;
+use crate::cli::{ExploreArgs, ScoringArg};
+use crate::formats::rosmap::load_any;
+use crate::render::{render_step, StepView};
+use crate::report::{write_atomic, write_episode_outputs, MapSource};
+
+/// The file name of the figure of the step after scan `n`: `step-007.png`.
+pub fn step_figure_name(n: usize) -> String {
+    format!("step-{n:03}.png")
+}
+
+/// Builds the run's configuration: defaults, then the TOML file, then flags.
+pub fn build_config(args: &ExploreArgs) -> Result<Config> {
+    let mut config = read_config(args.config.as_deref())?;
+    if let Some(a) = args.alpha {
+        config.parent.alpha = a;
+    }
+    if let Some(b) = args.beta {
+        config.parent.beta = b;
+    }
+    if let Some(s) = args.scoring {
+        config.parent.scoring = match s {
+            ScoringArg::Normalized => Scoring::Normalized,
+            ScoringArg::Literal => Scoring::Literal,
+        };
+    }
+    if let Some(r) = args.range {
+        config.scanner.range = r;
+    }
+    if let Some(r) = args.resolution {
+        config.resolution = r;
+    }
+    if let Some(r) = args.radius {
+        config.robot.radius = r;
+    }
+    if let Some(n) = args.max_scans {
+        config.mission.max_scans = n;
+    }
+    if let Some(n) = args.children {
+        config.children.count = n;
+    }
+    if let Some(s) = args.seed {
+        config.seed = s;
+    }
+    config.validate()?;
+    Ok(config)
+}
+
+/// Loads the ground truth at the planning resolution, with its default start.
+fn load_truth(
+    args: &ExploreArgs,
+    config: &Config,
+) -> Result<(OccupancyGrid, MapSource, Option<Point>)> {
+    match &args.map {
+        Some(path) => {
+            let grid = load_any(path, config.resolution)?;
+            let truth = resample_conservative(&grid, config.resolution);
+            Ok((truth, MapSource::File(path.clone()), None))
+        }
+        None => {
+            let map = args.builtin.unwrap_or(BuiltinMap::DEFAULT);
+            let grid = map.generate(config.seed);
+            let truth = resample_conservative(&grid, config.resolution);
+            Ok((truth, MapSource::Builtin(map), Some(map.default_start())))
+        }
+    }
+}
+
+/// Runs the episode and writes its report.
+pub fn run(args: &ExploreArgs) -> Result<()> {
+    let config = build_config(args)?;
+    let (truth, source, builtin_start) = load_truth(args, &config)?;
+    let start = match args.start.or(builtin_start) {
+        Some(p) => p,
+        None => match default_start(&truth) {
+            Some(p) => p,
+            None => bail!("map {} has no free cell to start from", source.label()),
+        },
+    };
+    let bar = if args.quiet {
+        ProgressBar::hidden()
+    } else {
+        let bar = ProgressBar::new_spinner();
+        if let Ok(style) = ProgressStyle::with_template("{spinner} {elapsed} {msg}") {
+            bar.set_style(style);
+        }
+        bar
+    };
+    let t0 = Instant::now();
+    let mut figures: Vec<(usize, Vec<u8>)> = Vec::new();
+    let mut figure_error = None;
+    let episode = run_episode_with(&truth, start, &config, |step, knowledge| {
+        bar.set_message(format!(
+            "scan {} · coverage {:.1} % · walls {:.1} %",
+            step.scan,
+            step.coverage * 100.0,
+            step.wall_coverage * 100.0
+        ));
+        bar.tick();
+        if figure_error.is_none() && args.step_figure.contains(&step.scan) {
+            let title = format!("cpsplan step {} \u{2014} {}", step.scan, source.label());
+            match render_step(knowledge, &StepView::from(step), &config, &title) {
+                Ok(png) => figures.push((step.scan, png)),
+                Err(e) => figure_error = Some((step.scan, e)),
+            }
+        }
+    })?;
+    let wall_ms = t0.elapsed().as_secs_f64() * 1e3;
+    bar.finish_and_clear();
+    if let Some((scan, e)) = figure_error {
+        bail!("cannot draw the figure of step {scan}: {e}");
+    }
+    write_episode_outputs(&args.out, &truth, &source, &episode, wall_ms)?;
+    for (scan, png) in &figures {
+        write_atomic(&args.out.join(step_figure_name(*scan)), png)?;
+    }
+    let scans = episode.steps.len();
+    let mut missing: Vec<usize> = args
+        .step_figure
+        .iter()
+        .copied()
+        .filter(|&n| n > scans)
+        .collect();
+    missing.sort_unstable();
+    missing.dedup();
+    for n in missing {
+        eprintln!(
+            "warning: --step-figure {n}: the episode has {scans} scan{}, no {} written",
+            if scans == 1 { "" } else { "s" },
+            step_figure_name(n)
+        );
+    }
+    if !args.quiet {
+        let s = &episode.summary;
+        println!(
+            "{}: {} scans, coverage {:.1} %, walls {:.1} %, parent travel {:.1} m, stop: {} ({:.0} ms)",
+            source.label(),
+            s.scans,
+            s.coverage * 100.0,
+            s.wall_coverage * 100.0,
+            s.parent_travel_m,
+            crate::report::stop_label(s.stop_reason),
+            wall_ms
+        );
+        println!("report written to {}", args.out.display());
+    }
+    Ok(())
+}

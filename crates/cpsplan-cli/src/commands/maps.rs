@@ -1,0 +1,53 @@
+//! `cpsplan maps`: the built-in maps, listed or exported.
+
+use std::path::Path;
+
+use anyhow::{Context, Result};
+use cpsplan::world::builtin::BuiltinMap;
+use cpsplan::OccupancyGrid;
+
+use crate::cli::MapsArgs;
+use crate::formats::rosmap::save_map;
+use crate::render::render_map;
+use crate::report::write_atomic;
+
+/// Lists the built-in maps, or exports them with `--export`.
+pub fn run(args: &MapsArgs) -> Result<()> {
+    match &args.export {
+        None => {
+            for map in BuiltinMap::ALL {
+                let p = map.default_start();
+                println!(
+                    "{:8} {} (start {:.1},{:.1})",
+                    map.name(),
+                    map.description(),
+                    p.x,
+                    p.y
+                );
+            }
+        }
+        Some(dir) => {
+            std::fs::create_dir_all(dir)
+                .with_context(|| format!("cannot create directory {}", dir.display()))?;
+            for map in BuiltinMap::ALL {
+                let grid = map.generate(args.seed);
+                export_map(&grid, dir, map.name(), args.seed)?;
+                println!(
+                    "wrote {}",
+                    dir.join(format!("{}.yaml", map.name())).display()
+                );
+            }
+        }
+    }
+    Ok(())
+}
+
+fn export_map(grid: &OccupancyGrid, dir: &Path, name: &str, seed: u64) -> Result<()> {
+    save_map(grid, &dir.join(format!("{name}.yaml")))?;
+    let png = render_map(
+        grid,
+        &format!("cpsplan built-in map `{name}` (seed {seed})"),
+    )?;
+    write_atomic(&dir.join(format!("{name}.png")), &png)?;
+    Ok(())
+}

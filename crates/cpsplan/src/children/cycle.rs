@@ -1,0 +1,242 @@
+//! One CPS cycle (paper Fig. 1) planned on the knowledge map: the children move
+//! into the AND region of the parent's current and next position while the parent
+//! stands, then the parent moves while they stand (section IV-B).
+//!
+//! In: the step's [`StepMaps`], the parent's two positions, the children's cells.
+//! Out: where every child stands during the cycle ([`CpsCycle`]), or why no cycle
+//! can be planned ([`CycleError`]). A child already in its AND region stays
+//! (section IV-B); the others are placed jointly by Eq. (2) ([`place_children`]).
+//! When a moving child has no AND region at all, the caller retrieves subgoals
+//! (section IV-C). How the children drive to their spots is planned by
+//! [`crate::motion`].
+
+use thiserror::Error;
+
+use super::and_region::{and_region, ChildReach};
+use super::clearance::clearances;
+use super::maps::StepMaps;
+use super::placement::{place_children, Placement, Spot};
+use crate::geom::Cell;
+
+/// What one child does during a cycle.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CycleChild {
+    /// Where it stands before the cycle.
+    pub from: Cell,
+    /// Where it stands while the parent moves.
+    pub to: Cell,
+    /// It was already in its AND region and stays.
+    pub stays: bool,
+    /// Its path, `from` first (a single cell when it stays; `from` and `to` until
+    /// [`crate::motion`] plans the drive).
+    pub path: Vec<Cell>,
+    /// Eq. (2) terms of its spot (`None` when it stays).
+    pub placement: Option<Placement>,
+    /// Size of its AND region in cells.
+    pub and_region_cells: usize,
+}
+
+/// A planned cycle.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CpsCycle {
+    /// The parent's position during the children's move.
+    pub parent_from: Cell,
+    /// The parent's position after its move.
+    pub parent_to: Cell,
+    /// One entry per child, in order.
+    pub children: Vec<CycleChild>,
+}
+
+/// Why a cycle cannot be planned directly.
+#[derive(Debug, Clone, PartialEq, Eq, Error)]
+pub enum CycleError {
+    /// A child that must move has no AND region it can reach.
+    #[error("child {child} has no reachable AND region between the two parent positions")]
+    NoAndRegion {
+        /// Index of the child.
+        child: usize,
+    },
+    /// Places exist, but not enough of them for every child at once.
+    #[error("the AND region has no room for every child")]
+    NoJointPlacement,
+}
+
+/// The children's places for the cycle from `parent_from` to `parent_to` (paths
+/// not yet planned: each moving child's path is just its two ends); `reach[i]` is
+/// child `i`'s [`ChildReach`].
+pub fn place_cycle(
+    maps: &StepMaps,
+    parent_from: Cell,
+    parent_to: Cell,
+    children: &[Cell],
+    reach: &[ChildReach],
+) -> Result<CpsCycle, CycleError> {
+    let params = maps.params();
+    let g = *maps.knowledge().geometry();
+    let mutual = maps.mutual_view(parent_from, parent_to);
+    let regions: Vec<_> = reach.iter().map(|r| and_region(&mutual, r)).collect();
+    let stays: Vec<bool> = children
+        .iter()
+        .zip(&regions)
+        .map(|(&c, r)| r.contains(g.index(c)))
+        .collect();
+    if let Some(child) = (0..children.len()).find(|&i| !stays[i] && regions[i].size() == 0) {
+        return Err(CycleError::NoAndRegion { child });
+    }
+    let movers: Vec<usize> = (0..children.len()).filter(|&i| !stays[i]).collect();
+    let staying: Vec<Cell> = (0..children.len())
+        .filter(|&s| stays[s])
+        .map(|s| children[s])
+        .collect();
+    let sep2 = (2.0 * params.child_radius / g.resolution).powi(2);
+    // Clearance (Eq. 2's 1/P) of every cell any moving child may take, at once.
+    let mut candidates: Vec<u32> = movers
+        .iter()
+        .flat_map(|&i| regions[i].cells.iter().copied())
+        .collect();
+    candidates.sort_unstable();
+    candidates.dedup();
+    let clearance = clearances(maps.knowledge(), &candidates, params.eq2.clearance_cap);
+    let clearance_of = |j: u32| {
+        let k = candidates.binary_search(&j);
+        clearance[k.expect("every region cell is a candidate")]
+    };
+    let spots: Vec<Vec<Spot>> = movers
+        .iter()
+        .map(|&i| {
+            regions[i]
+                .cells
+                .iter()
+                .map(|&j| (j, g.cell(j as usize)))
+                // Keep clear of children that stay.
+                .filter(|&(_, c)| {
+                    staying.iter().all(|s| {
+                        let (dx, dy) = (c.x as f64 - s.x as f64, c.y as f64 - s.y as f64);
+                        dx * dx + dy * dy >= sep2
+                    })
+                })
+                .map(|(j, cell)| Spot {
+                    cell,
+                    clearance: clearance_of(j),
+                })
+                .collect()
+        })
+        .collect();
+    let placed = place_children(&g, &spots, parent_to, params.child_radius, &params.eq2);
+    let mut out: Vec<CycleChild> = children
+        .iter()
+        .zip(&regions)
+        .map(|(&c, r)| CycleChild {
+            from: c,
+            to: c,
+            stays: true,
+            path: vec![c],
+            placement: None,
+            and_region_cells: r.size(),
+        })
+        .collect();
+    for (k, &i) in movers.iter().enumerate() {
+        let Some(p) = placed[k] else {
+            return Err(CycleError::NoJointPlacement);
+        };
+        out[i] = CycleChild {
+            from: children[i],
+            to: p.cell,
+            stays: false,
+            path: vec![children[i], p.cell],
+            placement: Some(p),
+            and_region_cells: regions[i].size(),
+        };
+    }
+    Ok(CpsCycle {
+        parent_from,
+        parent_to,
+        children: out,
+    })
+}
+
+/// Cycle fixtures shared by the tests of the CPS stages.
+#[cfg(test)]
+pub(crate) mod tests {
+    use super::*;
+    use crate::children::params::CycleParams;
+    use crate::children::placement::Eq2;
+    use crate::grid::fixtures::{l_corridor, u_corridor};
+    use crate::grid::OccupancyGrid;
+    use crate::sensing::{certain_view, LinkRange};
+
+    /// Cycle parameters with the paper's Eq. (2) targets.
+    pub(crate) fn params() -> CycleParams {
+        CycleParams {
+            child_radius: 0.25,
+            link: LinkRange {
+                min: 1.3,
+                max: 20.0,
+            },
+            eq2: Eq2 {
+                alpha_c: 1.0,
+                beta_c: 1.0,
+                theta_t: std::f64::consts::FRAC_PI_2,
+                d_t: 3.0,
+                clearance_cap: 5.0,
+            },
+        }
+    }
+
+    /// The cycle from `from` to `to` planned on fresh maps of `k`.
+    pub(crate) fn plan_cycle(
+        k: &OccupancyGrid,
+        from: Cell,
+        to: Cell,
+        children: &[Cell],
+        params: &CycleParams,
+    ) -> Result<CpsCycle, CycleError> {
+        let maps = StepMaps::new(k, from, params.child_radius, params);
+        let reach: Vec<ChildReach> = children.iter().map(|&c| maps.reach(c)).collect();
+        place_cycle(&maps, from, to, children, &reach)
+    }
+
+    #[test]
+    fn children_end_where_both_parent_positions_see_them() {
+        let k = l_corridor();
+        let (from, to) = (Cell::new(20, 15), Cell::new(105, 100));
+        let children = [Cell::new(10, 10), Cell::new(10, 20)];
+        let cycle = plan_cycle(&k, from, to, &children, &params()).unwrap();
+        let link = params().link;
+        for c in &cycle.children {
+            assert!(!c.stays);
+            let sees = certain_view(&k, c.to, link);
+            let g = k.geometry();
+            assert!(sees[g.index(from)] && sees[g.index(to)], "{:?}", c.to);
+            assert_eq!(c.path.first(), Some(&c.from));
+            assert_eq!(c.path.last(), Some(&c.to));
+        }
+        assert_ne!(cycle.children[0].to, cycle.children[1].to);
+    }
+
+    #[test]
+    fn a_child_already_in_the_region_stays() {
+        let k = l_corridor();
+        let (from, to) = (Cell::new(20, 15), Cell::new(60, 15));
+        // Both parent positions see the whole horizontal arm.
+        let children = [Cell::new(40, 10), Cell::new(10, 20)];
+        let cycle = plan_cycle(&k, from, to, &children, &params()).unwrap();
+        assert!(cycle.children[0].stays);
+        assert_eq!(cycle.children[0].to, children[0]);
+        assert_eq!(cycle.children[0].path, vec![children[0]]);
+    }
+
+    #[test]
+    fn no_and_region_asks_for_subgoals() {
+        let k = u_corridor();
+        let err = plan_cycle(
+            &k,
+            Cell::new(15, 10),
+            Cell::new(105, 10),
+            &[Cell::new(15, 20), Cell::new(15, 30)],
+            &params(),
+        )
+        .unwrap_err();
+        assert_eq!(err, CycleError::NoAndRegion { child: 0 });
+    }
+}

@@ -1,0 +1,140 @@
+//! What the CPS planners of one step share (sections IV-B and IV-C): the maps
+//! derived from one knowledge map, computed once and reused by every cycle,
+//! subgoal and candidate of the step.
+//!
+//! In: the knowledge map, the parent's position and radius, the cycle parameters.
+//! Out: a [`StepMaps`] holding
+//! - the parent's [`Terrain`] (drivable cells, the region it can reach) and the
+//!   children's (the same one when parent and children have the same radius);
+//! - the certain views of the parent positions tried so far (a view is two
+//!   visibility sweeps' worth of work, and subgoal retrieval asks for the same
+//!   positions again and again);
+//! - the terrains of children standing off the shared one.
+//!
+//! The stages above add what they own: the Visibility Graph (subgoals) and the
+//! Voronoi diagrams (motion).
+
+use std::cell::RefCell;
+use std::collections::HashMap;
+use std::rc::Rc;
+use std::sync::Arc;
+
+use super::and_region::ChildReach;
+use super::params::CycleParams;
+use crate::geom::Cell;
+use crate::grid::travel::sweep;
+use crate::grid::{OccupancyGrid, Terrain, Traversability, UNREACHED};
+use crate::sensing::{seen_by_both, View};
+
+/// Views kept at most; the cache starts afresh beyond this (each view is one flag
+/// per cell of the rows its range disc spans).
+const MAX_VIEWS: usize = 64;
+
+/// The maps of one planning step for a team on `knowledge`.
+#[derive(Debug)]
+pub struct StepMaps<'k> {
+    knowledge: &'k OccupancyGrid,
+    params: CycleParams,
+    parent: Arc<Terrain>,
+    children: Arc<Terrain>,
+    views: RefCell<HashMap<Cell, Rc<View>>>,
+    own_terrain: RefCell<HashMap<Cell, ChildReach>>,
+}
+
+impl<'k> StepMaps<'k> {
+    /// The maps for a parent of `parent_radius` metres standing at `parent` and
+    /// children with `params`.
+    pub fn new(
+        knowledge: &'k OccupancyGrid,
+        parent: Cell,
+        parent_radius: f64,
+        params: &CycleParams,
+    ) -> Self {
+        let g = knowledge.geometry();
+        let (parent_terrain, child_terrain) = rayon::join(
+            || {
+                let trav = Traversability::new(knowledge, parent_radius, parent);
+                let field = sweep(g, &trav.passable, &[g.index(parent)], UNREACHED);
+                Terrain::from_sweep(trav, &field)
+            },
+            || {
+                (parent_radius != params.child_radius)
+                    .then(|| Terrain::new(knowledge, params.child_radius, parent))
+            },
+        );
+        Self::assemble(knowledge, parent_terrain, child_terrain, params)
+    }
+
+    /// The maps from the parent's terrain and, when the children's radius differs
+    /// from the parent's, the children's terrain (both for a robot standing where
+    /// the parent stands).
+    pub fn assemble(
+        knowledge: &'k OccupancyGrid,
+        parent_terrain: Terrain,
+        child_terrain: Option<Terrain>,
+        params: &CycleParams,
+    ) -> Self {
+        let parent = Arc::new(parent_terrain);
+        let children = child_terrain.map_or_else(|| Arc::clone(&parent), Arc::new);
+        Self {
+            knowledge,
+            params: *params,
+            parent,
+            children,
+            views: RefCell::default(),
+            own_terrain: RefCell::default(),
+        }
+    }
+
+    /// The knowledge map.
+    pub fn knowledge(&self) -> &'k OccupancyGrid {
+        self.knowledge
+    }
+
+    /// The cycle parameters.
+    pub fn params(&self) -> &CycleParams {
+        &self.params
+    }
+
+    /// The parent's terrain.
+    pub fn parent_terrain(&self) -> &Terrain {
+        &self.parent
+    }
+
+    /// Where a child standing at `child` can drive: the shared terrain, or a
+    /// terrain of its own when it stands on no passable cell of the shared one
+    /// (then its own escape region applies).
+    pub fn reach(&self, child: Cell) -> ChildReach {
+        let g = self.knowledge.geometry();
+        if let Some(r) = ChildReach::on(&self.children, g, child) {
+            return r;
+        }
+        self.own_terrain
+            .borrow_mut()
+            .entry(child)
+            .or_insert_with(|| ChildReach::new(self.knowledge, child, self.params.child_radius))
+            .clone()
+    }
+
+    /// The cells in certain line of sight from `from` within the link range
+    /// ([`View`]), cached.
+    pub fn view(&self, from: Cell) -> Rc<View> {
+        if let Some(v) = self.views.borrow().get(&from) {
+            return Rc::clone(v);
+        }
+        let v = Rc::new(View::new(self.knowledge, from, self.params.link));
+        let mut views = self.views.borrow_mut();
+        if views.len() >= MAX_VIEWS {
+            views.clear();
+        }
+        views.insert(from, Rc::clone(&v));
+        v
+    }
+
+    /// Cells in certain line of sight from both parent positions within range
+    /// ([`crate::sensing::mutual_view`]), ascending grid indices.
+    pub fn mutual_view(&self, parent_from: Cell, parent_to: Cell) -> Vec<u32> {
+        let (a, b) = (self.view(parent_from), self.view(parent_to));
+        seen_by_both(self.knowledge.geometry(), &a, &b)
+    }
+}

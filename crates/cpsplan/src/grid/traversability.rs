@@ -1,0 +1,658 @@
+//! Where a robot may stand and drive on the knowledge map.
+//!
+//! A cell is *traversable* when it is known Free and its clearance from every known
+//! obstacle, every Unknown cell and the grid's edge is at least the robot radius.
+//! Keeping clear of Unknown cells too means a later scan can never reveal a wall
+//! inside the robot's footprint, so a robot is never sealed in where it stands.
+//! A robot that starts in a tighter spot may still leave through its *escape
+//! region*: the known-Free cells connected to it within one robot radius plus two
+//! cells.
+//!
+//! Clearance is measured from a cell's centre to the nearest obstacle cell's centre
+//! minus half a cell (the exact gap for axis-aligned neighbours).
+//!
+//! # How it is computed
+//!
+//! Only the bounding box of the known cells matters: everything outside it is
+//! Unknown. No full Euclidean distance transform is needed:
+//!
+//! - *Traversable* is a threshold on the distance `d` to the nearest non-Free cell
+//!   of the box plus a one-cell ring (the *window*), so it is a threshold `T` on the
+//!   integer squared distance: a Free cell is traversable iff no non-Free cell of
+//!   the window lies within `d² < T`, i.e. iff in each of the few columns `x + dx`
+//!   with `dx² < T` the vertical distance to the nearest non-Free cell is at least
+//!   `⌈√(T − dx²)⌉`. The vertical distances come from two linear sweeps per column
+//!   (saturated at the largest threshold, so they usually fit a byte). `T` is found
+//!   by evaluating the very same `f32` expression as the metric rule at the
+//!   candidate distances `√n`, so the result is bit-for-bit that of the metric rule.
+//! - The clearance to known Occupied cells (the `1/P` of Eq. 1) is only needed at a
+//!   few candidate cells: the Occupied cells are kept as sorted rows per column, and
+//!   [`Traversability::clearance_at`] walks the columns outward from the cell, taking
+//!   the nearest Occupied cell of each, until no closer one can exist.
+
+use crate::geom::Cell;
+use crate::grid::{CellState, OccupancyGrid};
+
+/// Clearances and drivable cells of one knowledge map.
+#[derive(Debug, Clone)]
+pub struct Traversability {
+    /// Per cell: a robot of the given radius may stand here.
+    pub traversable: Vec<bool>,
+    /// Per cell: traversable, or in the escape region of the robot.
+    pub passable: Vec<bool>,
+    clearance: OccupiedColumns,
+    radius: f64,
+}
+
+/// The known Occupied cells, by column: the rows of the Occupied cells of column
+/// `x0 + c` are `rows[start[c]..start[c + 1]]`, ascending.
+#[derive(Debug, Clone)]
+struct OccupiedColumns {
+    grid_width: usize,
+    resolution: f64,
+    /// Inclusive bounds of the known cells: outside them the clearance is infinite.
+    known: Option<(usize, usize, usize, usize)>,
+    start: Vec<usize>,
+    rows: Vec<usize>,
+}
+
+/// The clearance rule in metres for a centre distance of `d` cells: the centre
+/// distance minus half a cell, at least 0.
+#[inline]
+pub(crate) fn clearance_metres(d: f32, res: f64) -> f32 {
+    ((d - 0.5).max(0.0) as f64 * res) as f32
+}
+
+/// The distance in cells of a squared centre distance, as the exact Euclidean
+/// distance transform gives it.
+#[inline]
+fn distance_of(d2: u64) -> f32 {
+    (d2 as f64).sqrt() as f32
+}
+
+impl Traversability {
+    /// Computes clearances for `knowledge` and the drivable cells of a robot of
+    /// `radius` metres standing at `robot`.
+    pub fn new(knowledge: &OccupancyGrid, radius: f64, robot: Cell) -> Self {
+        let g = *knowledge.geometry();
+        let res = g.resolution;
+        let k = knowledge.cells();
+        let (w, h) = (g.width, g.height);
+        let n = g.len();
+        let known = known_bounds(knowledge);
+        let drivable = || {
+            let mut traversable = vec![false; n];
+            if let Some(bounds) = known {
+                if let Some(rule) = SafeRule::new(radius, res, w, h) {
+                    let max_need = rule.need.first().copied().unwrap_or(0);
+                    if max_need < u8::MAX as u32 {
+                        mark_traversable::<u8>(k, w, h, bounds, &rule, &mut traversable);
+                    } else if max_need < u16::MAX as u32 {
+                        mark_traversable::<u16>(k, w, h, bounds, &rule, &mut traversable);
+                    } else {
+                        mark_traversable::<u32>(k, w, h, bounds, &rule, &mut traversable);
+                    }
+                }
+            }
+            traversable
+        };
+        let (clearance, traversable) =
+            rayon::join(|| OccupiedColumns::new(k, w, res, known), drivable);
+        let mut passable = traversable.clone();
+        mark_escape_region(knowledge, robot, radius, &mut passable);
+        Self {
+            traversable,
+            passable,
+            clearance,
+            radius,
+        }
+    }
+
+    /// The robot radius, metres, these cells were computed for.
+    pub fn radius(&self) -> f64 {
+        self.radius
+    }
+
+    /// Metres from the centre of cell `index` to the nearest known Occupied cell
+    /// (centre distance minus half a cell, at least 0; the `1/P` of Eq. 1);
+    /// `f32::INFINITY` if none is known or the cell lies outside the bounding box of
+    /// the known cells.
+    pub fn clearance_at(&self, index: usize) -> f32 {
+        self.clearance.at(index)
+    }
+}
+
+impl OccupiedColumns {
+    fn new(
+        k: &[CellState],
+        w: usize,
+        resolution: f64,
+        known: Option<(usize, usize, usize, usize)>,
+    ) -> Self {
+        let mut columns = Self {
+            grid_width: w,
+            resolution,
+            known,
+            start: Vec::new(),
+            rows: Vec::new(),
+        };
+        let Some((x0, y0, x1, y1)) = known else {
+            return columns;
+        };
+        let bw = x1 - x0 + 1;
+        let box_rows = || (y0..=y1).map(|y| (y, &k[y * w + x0..][..bw]));
+        let mut count = vec![0usize; bw + 1];
+        for (_, row) in box_rows() {
+            for (c, &s) in count[1..].iter_mut().zip(row) {
+                *c += usize::from(s == CellState::Occupied);
+            }
+        }
+        for c in 1..=bw {
+            count[c] += count[c - 1];
+        }
+        let mut rows = vec![0usize; count[bw]];
+        let mut next = count.clone();
+        for (y, row) in box_rows() {
+            for (c, &s) in row.iter().enumerate() {
+                if s == CellState::Occupied {
+                    rows[next[c]] = y;
+                    next[c] += 1;
+                }
+            }
+        }
+        columns.start = count;
+        columns.rows = rows;
+        columns
+    }
+
+    fn at(&self, index: usize) -> f32 {
+        let (x, y) = (index % self.grid_width, index / self.grid_width);
+        let Some((x0, y0, x1, y1)) = self.known else {
+            return f32::INFINITY;
+        };
+        if x < x0 || x > x1 || y < y0 || y > y1 {
+            return f32::INFINITY;
+        }
+        let bw = x1 - x0 + 1;
+        let bx = x - x0;
+        // Vertical distance from row y to the nearest Occupied cell of column c.
+        let vertical = |c: usize| -> Option<u64> {
+            let rows = &self.rows[self.start[c]..self.start[c + 1]];
+            let p = rows.partition_point(|&r| r < y);
+            let below = p.checked_sub(1).map(|q| y - rows[q]);
+            let above = rows.get(p).map(|&r| r - y);
+            below.into_iter().chain(above).min().map(|v| v as u64)
+        };
+        // Walk the columns outward; a column dx away cannot beat `best` once
+        // dx² ≥ best.
+        let mut best = u64::MAX;
+        for dx in 0..bw {
+            let dx2 = (dx * dx) as u64;
+            if dx2 >= best || (dx > bx && bx + dx >= bw) {
+                break;
+            }
+            for c in [bx.checked_sub(dx), Some(bx + dx).filter(|_| dx > 0)] {
+                if let Some(g) = c.filter(|&c| c < bw).and_then(vertical) {
+                    best = best.min(dx2 + g * g);
+                }
+            }
+        }
+        if best == u64::MAX {
+            f32::INFINITY
+        } else {
+            clearance_metres(distance_of(best), self.resolution)
+        }
+    }
+}
+
+/// The traversability rule `clearance_metres(min(d, edge)) ≥ radius − 1e-6` turned into
+/// integer thresholds: the squared distance `d²` to the nearest non-Free cell at
+/// least some `T`, and `edge ≥ min_edge`.
+struct SafeRule {
+    /// Smallest distance to the grid's edge (1 for the outermost cells) that passes.
+    min_edge: usize,
+    /// `need[dx]`: the vertical distance column `x ± dx` must keep, for every `dx`
+    /// with `dx² < T` (`dx² + need[dx]² ≥ T`); non-increasing.
+    need: Vec<u32>,
+}
+
+impl SafeRule {
+    /// `None` if no cell of a `w × h` grid can pass.
+    fn new(radius: f64, res: f64, w: usize, h: usize) -> Option<Self> {
+        let need_m = radius as f32 - 1e-6;
+        // The rule is monotone in the distance: find its thresholds by bisection on
+        // the exact f32 values the metric rule compares.
+        let passes = |d: f32| clearance_metres(d, res) >= need_m;
+        let max_edge = (w.min(h).max(1) - 1) / 2 + 1;
+        let edge_passes = |e: usize| passes(e as f32);
+        if !edge_passes(max_edge) {
+            return None;
+        }
+        let (mut lo, mut hi) = (1usize, max_edge); // hi passes
+        while lo < hi {
+            let mid = lo + (hi - lo) / 2;
+            if edge_passes(mid) {
+                hi = mid;
+            } else {
+                lo = mid + 1;
+            }
+        }
+        let min_edge = lo;
+        // min_edge² passes (its square root is exact), so T is at most that.
+        let (mut lo, mut hi) = (0u64, (min_edge as u64) * (min_edge as u64));
+        while lo < hi {
+            let mid = lo + (hi - lo) / 2;
+            if passes(distance_of(mid)) {
+                hi = mid;
+            } else {
+                lo = mid + 1;
+            }
+        }
+        let t = lo;
+        let mut need = Vec::new();
+        let mut dx = 0u64;
+        while dx * dx < t {
+            let rest = t - dx * dx;
+            let mut v = (rest as f64).sqrt() as u64;
+            while v * v < rest {
+                v += 1;
+            }
+            while v > 0 && (v - 1) * (v - 1) >= rest {
+                v -= 1;
+            }
+            need.push(v.min(u32::MAX as u64) as u32);
+            dx += 1;
+        }
+        Some(Self { min_edge, need })
+    }
+}
+
+/// Unsigned vertical distances, saturating at the type's maximum.
+trait Vertical: Copy + Ord + 'static {
+    const ZERO: Self;
+    const FAR: Self;
+    fn step(self) -> Self;
+    fn from_need(need: u32) -> Self;
+    /// Runs `f` with a buffer of this type, reused across calls where it pays.
+    fn with_buffer<R>(f: impl FnOnce(&mut Vec<Self>) -> R) -> R {
+        f(&mut Vec::new())
+    }
+}
+
+/// The largest byte buffer a thread keeps for the next call.
+const KEEP_BYTES: usize = 1 << 24;
+
+thread_local! {
+    /// The byte buffer of [`mark_traversable`], kept per thread so that repeated
+    /// calls reuse its memory instead of faulting in fresh pages.
+    static BYTES: std::cell::RefCell<Vec<u8>> = const { std::cell::RefCell::new(Vec::new()) };
+}
+
+macro_rules! vertical {
+    ($t:ty $(, $with:item)?) => {
+        impl Vertical for $t {
+            $($with)?
+            const ZERO: Self = 0;
+            const FAR: Self = <$t>::MAX;
+            #[inline]
+            fn step(self) -> Self {
+                self.saturating_add(1)
+            }
+            #[inline]
+            fn from_need(need: u32) -> Self {
+                // Callers pick a type whose maximum exceeds every need.
+                need as $t
+            }
+        }
+    };
+}
+vertical!(
+    u8,
+    fn with_buffer<R>(f: impl FnOnce(&mut Vec<Self>) -> R) -> R {
+        let mut buffer = BYTES.with(|b| std::mem::take(&mut *b.borrow_mut()));
+        let result = f(&mut buffer);
+        if buffer.capacity() <= KEEP_BYTES {
+            BYTES.with(|b| *b.borrow_mut() = buffer);
+        }
+        result
+    }
+);
+vertical!(u16);
+vertical!(u32);
+
+/// Marks the traversable cells of the known box `(x0, y0, x1, y1)` of a `w × h`
+/// grid. Vertical distances to non-Free cells are taken over the window (the box
+/// plus a one-cell ring), saturated at `T::MAX`, which exceeds every `need`.
+fn mark_traversable<T: Vertical>(
+    k: &[CellState],
+    w: usize,
+    h: usize,
+    (x0, y0, x1, y1): (usize, usize, usize, usize),
+    rule: &SafeRule,
+    traversable: &mut [bool],
+) {
+    let e = rule.min_edge - 1;
+    // Cells at least `e` cells from every edge (edge distance min_edge or more).
+    if w <= 2 * e || h <= 2 * e {
+        return;
+    }
+    let (cx0, cx1) = (x0.max(e), x1.min(w - 1 - e));
+    let (cy0, cy1) = (y0.max(e), y1.min(h - 1 - e));
+    if cx0 > cx1 || cy0 > cy1 {
+        return;
+    }
+    // The window.
+    let (sx0, sy0) = (x0.saturating_sub(1), y0.saturating_sub(1));
+    let (sx1, sy1) = ((x1 + 1).min(w - 1), (y1 + 1).min(h - 1));
+    let (sw, sh) = (sx1 - sx0 + 1, sy1 - sy0 + 1);
+    T::with_buffer(|g| {
+        mark_window(
+            k,
+            w,
+            (sx0, sy0, sw, sh),
+            (cx0, cy0, cx1, cy1),
+            rule,
+            g,
+            traversable,
+        )
+    });
+}
+
+/// [`mark_traversable`] on the window `(sx0, sy0, sw, sh)` for the cells
+/// `(cx0, cy0)..=(cx1, cy1)`, with `g` as the buffer of vertical distances.
+fn mark_window<T: Vertical>(
+    k: &[CellState],
+    w: usize,
+    (sx0, sy0, sw, sh): (usize, usize, usize, usize),
+    (cx0, cy0, cx1, cy1): (usize, usize, usize, usize),
+    rule: &SafeRule,
+    g: &mut Vec<T>,
+    traversable: &mut [bool],
+) {
+    // Vertical distance to the nearest non-Free cell of the window, same column:
+    // down the rows, then up.
+    g.clear();
+    g.resize(sw * sh, T::FAR);
+    for y in 0..sh {
+        let krow = &k[(sy0 + y) * w + sx0..][..sw];
+        let (done, rest) = g.split_at_mut(y * sw);
+        let row = &mut rest[..sw];
+        if y == 0 {
+            for (v, &c) in row.iter_mut().zip(krow) {
+                *v = if c != CellState::Free {
+                    T::ZERO
+                } else {
+                    T::FAR
+                };
+            }
+        } else {
+            let prev = &done[(y - 1) * sw..];
+            for ((v, &c), &p) in row.iter_mut().zip(krow).zip(prev) {
+                *v = if c != CellState::Free {
+                    T::ZERO
+                } else {
+                    p.step()
+                };
+            }
+        }
+    }
+    for y in (0..sh.saturating_sub(1)).rev() {
+        let (row, below) = g[y * sw..].split_at_mut(sw);
+        for (a, &b) in row.iter_mut().zip(&below[..sw]) {
+            *a = (*a).min(b.step());
+        }
+    }
+    let need: Vec<T> = rule.need.iter().map(|&v| T::from_need(v)).collect();
+    let wx0 = cx0 - sx0;
+    let len = cx1 - cx0 + 1;
+    for y in cy0..=cy1 {
+        let grow = &g[(y - sy0) * sw..][..sw];
+        let out = &mut traversable[y * w + cx0..][..len];
+        let krow = &k[y * w + cx0..][..len];
+        for (o, &c) in out.iter_mut().zip(krow) {
+            *o = c == CellState::Free;
+        }
+        for (dx, &need) in need.iter().enumerate() {
+            // Column wx0 + i + dx, for the i that stay inside the window.
+            if wx0 + dx < sw {
+                for (o, &b) in out.iter_mut().zip(&grow[wx0 + dx..]) {
+                    *o &= b >= need;
+                }
+            }
+            if dx == 0 {
+                continue;
+            }
+            // Column wx0 + i − dx: i starts where it is inside the window.
+            let skip = dx.saturating_sub(wx0);
+            if skip < len {
+                for (o, &b) in out[skip..].iter_mut().zip(&grow[wx0 + skip - dx..]) {
+                    *o &= b >= need;
+                }
+            }
+        }
+    }
+}
+
+/// Inclusive bounds `(x0, y0, x1, y1)` of the cells that are not Unknown.
+fn known_bounds(knowledge: &OccupancyGrid) -> Option<(usize, usize, usize, usize)> {
+    let w = knowledge.width();
+    let mut b: Option<(usize, usize, usize, usize)> = None;
+    for (y, row) in knowledge.cells().chunks(w).enumerate() {
+        let Some(first) = row.iter().position(|&c| c != CellState::Unknown) else {
+            continue;
+        };
+        let last = row
+            .iter()
+            .rposition(|&c| c != CellState::Unknown)
+            .unwrap_or(first);
+        b = Some(match b {
+            None => (first, y, last, y),
+            Some((x0, y0, x1, _)) => (x0.min(first), y0, x1.max(last), y),
+        });
+    }
+    b
+}
+
+/// Marks the known-Free cells connected to `robot` within `radius` plus two cells.
+fn mark_escape_region(knowledge: &OccupancyGrid, robot: Cell, radius: f64, passable: &mut [bool]) {
+    let g = knowledge.geometry();
+    let reach = radius / g.resolution + 2.0;
+    let reach2 = reach * reach;
+    let start = g.index(robot);
+    // A robot on a traversable cell needs no escape: a region that let it cross a
+    // pinch between two traversable regions would be a one-way valve.
+    if passable[start] || knowledge.get(robot) != CellState::Free {
+        passable[start] = true;
+        return;
+    }
+    passable[start] = true;
+    let mut stack = vec![robot];
+    let mut seen = std::collections::HashSet::new();
+    seen.insert(start);
+    while let Some(c) = stack.pop() {
+        for (dx, dy) in [(1i64, 0i64), (-1, 0), (0, 1), (0, -1)] {
+            let Some(n) = g.checked_cell(c.x as i64 + dx, c.y as i64 + dy) else {
+                continue;
+            };
+            let (ex, ey) = (n.x as f64 - robot.x as f64, n.y as f64 - robot.y as f64);
+            let j = g.index(n);
+            // Stop at traversable cells: the escape leads to them, not through them.
+            if passable[j]
+                || ex * ex + ey * ey > reach2
+                || knowledge.get(n) != CellState::Free
+                || !seen.insert(j)
+            {
+                continue;
+            }
+            passable[j] = true;
+            stack.push(n);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geom::Point;
+    use crate::grid::GridGeometry;
+
+    #[test]
+    fn clearance_from_unknown_and_edges() {
+        let g = GridGeometry::new(20, 11, 0.1, Point::default());
+        let mut k = OccupancyGrid::filled(g, CellState::Free);
+        k.fill_rect(15, 0, 20, 11, CellState::Unknown);
+        let t = Traversability::new(&k, 0.25, Cell::new(5, 5));
+        // Column 11 is 4 cells from Unknown column 15: 0.35 m; column 12: 0.25 m; 13: 0.15 m.
+        assert!(t.traversable[g.index(Cell::new(12, 5))]);
+        assert!(!t.traversable[g.index(Cell::new(13, 5))]);
+        // Rows near the grid edge are not traversable.
+        assert!(!t.traversable[g.index(Cell::new(5, 1))]);
+        assert!(t.traversable[g.index(Cell::new(5, 2))]);
+        // No known obstacle: clearance is infinite.
+        assert!(t.clearance_at(0).is_infinite());
+    }
+
+    #[test]
+    fn robot_in_a_pinch_can_escape() {
+        let g = GridGeometry::new(30, 30, 0.1, Point::default());
+        let mut k = OccupancyGrid::filled(g, CellState::Free);
+        k.fill_rect(0, 14, 14, 15, CellState::Occupied);
+        let robot = Cell::new(5, 15);
+        let t = Traversability::new(&k, 0.25, robot);
+        assert!(!t.traversable[g.index(robot)]);
+        assert!(t.passable[g.index(robot)]);
+        assert!(t.passable[g.index(Cell::new(5, 18))]);
+        assert!(!t.passable[g.index(Cell::new(5, 13))]);
+    }
+
+    /// The metric rule with full Euclidean distance transforms, as it was first
+    /// written: `(clearance, traversable)` per cell.
+    fn reference(knowledge: &OccupancyGrid, radius: f64) -> (Vec<f32>, Vec<bool>) {
+        use super::super::distance::transform;
+        let g = *knowledge.geometry();
+        let res = g.resolution;
+        let k = knowledge.cells();
+        let (w, h) = (g.width, g.height);
+        let n = g.len();
+        let to_metres = |d: f32| ((d - 0.5).max(0.0) as f64 * res) as f32;
+        let mut clearance = vec![f32::INFINITY; n];
+        let mut safe_clearance = vec![0.0f32; n];
+        if let Some((x0, y0, x1, y1)) = known_bounds(knowledge) {
+            let (bw, bh) = (x1 - x0 + 1, y1 - y0 + 1);
+            let d = transform(bw, bh, |x, y| {
+                k[(y0 + y) * w + x0 + x] == CellState::Occupied
+            });
+            for y in 0..bh {
+                for x in 0..bw {
+                    clearance[(y0 + y) * w + x0 + x] = to_metres(d[y * bw + x]);
+                }
+            }
+            let (sx0, sy0) = (x0.saturating_sub(1), y0.saturating_sub(1));
+            let (sx1, sy1) = ((x1 + 1).min(w - 1), (y1 + 1).min(h - 1));
+            let (sw, sh) = (sx1 - sx0 + 1, sy1 - sy0 + 1);
+            let d = transform(sw, sh, |x, y| k[(sy0 + y) * w + sx0 + x] != CellState::Free);
+            for y in 0..sh {
+                for x in 0..sw {
+                    let (gx, gy) = (sx0 + x, sy0 + y);
+                    let edge = (gx.min(gy).min(w - 1 - gx).min(h - 1 - gy) + 1) as f32;
+                    safe_clearance[gy * w + gx] = to_metres(d[y * sw + x].min(edge));
+                }
+            }
+        }
+        let need = radius as f32 - 1e-6;
+        let traversable = safe_clearance
+            .iter()
+            .zip(k)
+            .map(|(&c, &s)| s == CellState::Free && c >= need)
+            .collect();
+        (clearance, traversable)
+    }
+
+    fn random_knowledge(
+        w: usize,
+        h: usize,
+        res: f64,
+        bits: &[u8],
+        known: (usize, usize, usize, usize),
+    ) -> OccupancyGrid {
+        let g = GridGeometry::new(w, h, res, Point::default());
+        let mut k = OccupancyGrid::filled(g, CellState::Unknown);
+        let (kx0, ky0, kx1, ky1) = known;
+        for y in 0..h {
+            for x in 0..w {
+                let inside = x >= kx0 % w && x <= kx1 % w && y >= ky0 % h && y <= ky1 % h;
+                let b = bits[(y * w + x) % bits.len()];
+                let s = match b {
+                    0 => CellState::Occupied,
+                    1 if inside => CellState::Unknown,
+                    _ if inside => CellState::Free,
+                    _ => CellState::Unknown,
+                };
+                k.set(Cell::new(x, y), s);
+            }
+        }
+        k
+    }
+
+    proptest::proptest! {
+        #[test]
+        fn matches_the_metric_rule_exactly(
+            w in 1usize..40,
+            h in 1usize..40,
+            res in proptest::sample::select(vec![0.02, 0.05, 0.1, 0.13, 0.25, 1.0]),
+            radius in proptest::sample::select(vec![0.0, 0.05, 0.1, 0.15, 0.2, 0.25, 0.3, 0.35, 0.45, 0.5, 0.8, 1.3]),
+            bits in proptest::collection::vec(0u8..40, 1..1600),
+            known in (0usize..40, 0usize..40, 0usize..40, 0usize..40),
+        ) {
+            let k = random_knowledge(w, h, res, &bits, known);
+            let robot = Cell::new(w / 2, h / 2);
+            let t = Traversability::new(&k, radius, robot);
+            let (clearance, traversable) = reference(&k, radius);
+            for (i, c) in clearance.iter().enumerate() {
+                proptest::prop_assert_eq!(t.clearance_at(i).to_bits(), c.to_bits(), "clearance at {}", i);
+            }
+            proptest::prop_assert_eq!(t.traversable, traversable);
+        }
+    }
+
+    #[test]
+    fn matches_the_metric_rule_on_an_open_map() {
+        // Large clearances and distant obstacles, at many radii and resolutions.
+        let g = GridGeometry::new(120, 90, 0.1, Point::default());
+        let mut k = OccupancyGrid::filled(g, CellState::Unknown);
+        k.fill_rect(10, 5, 115, 80, CellState::Free);
+        k.fill_rect(50, 30, 53, 33, CellState::Occupied);
+        k.set(Cell::new(100, 70), CellState::Occupied);
+        for res in [0.01, 0.05, 0.1, 0.3] {
+            let k = OccupancyGrid::from_cells(
+                GridGeometry::new(120, 90, res, Point::default()),
+                k.cells().to_vec(),
+            )
+            .unwrap();
+            for r in 0..60 {
+                let radius = r as f64 * 0.037;
+                let t = Traversability::new(&k, radius, Cell::new(60, 40));
+                let (clearance, traversable) = reference(&k, radius);
+                for (i, c) in clearance.iter().enumerate() {
+                    assert_eq!(t.clearance_at(i).to_bits(), c.to_bits());
+                }
+                assert_eq!(t.traversable, traversable, "radius {radius} res {res}");
+            }
+        }
+    }
+
+    #[test]
+    fn no_one_way_valve_through_a_pinch() {
+        // Two open areas joined by a 0.3 m gap, too narrow for a 0.25 m robot. A
+        // robot standing on a traversable cell beside the gap must not be allowed
+        // through it (it could never come back).
+        let g = GridGeometry::new(60, 30, 0.1, Point::default());
+        let mut k = OccupancyGrid::filled(g, CellState::Free);
+        k.fill_rect(29, 0, 31, 30, CellState::Occupied);
+        k.fill_rect(29, 14, 31, 17, CellState::Free);
+        let robot = Cell::new(25, 15);
+        let t = Traversability::new(&k, 0.25, robot);
+        assert!(t.traversable[g.index(robot)]);
+        assert!(!t.passable[g.index(Cell::new(30, 15))]);
+    }
+}

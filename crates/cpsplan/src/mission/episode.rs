@@ -1,0 +1,292 @@
+//! A whole simulated episode: scan, plan the parent's next position, move the team
+//! there, scan again, until no reachable frontier remains or the scan limit is
+//! reached. Every step is recorded.
+
+use rand::SeedableRng;
+use rand_chacha::ChaCha8Rng;
+use serde::{Deserialize, Serialize};
+use thiserror::Error;
+
+use super::record::MoveRecord;
+use super::team;
+use crate::config::{Config, ConfigError};
+use crate::geom::{Cell, Point};
+use crate::grid::{CellState, OccupancyGrid};
+use crate::parent::{Decision, ParentPlan};
+use crate::sensing::{scan, ScanOutcome};
+use crate::world::CoverageTracker;
+
+/// Why a mission could not start.
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum MissionError {
+    /// A parameter is out of range.
+    #[error(transparent)]
+    Config(#[from] ConfigError),
+    /// The start lies outside the map.
+    #[error("start ({x}, {y}) is outside the map (x {x0}..{x1} m, y {y0}..{y1} m)")]
+    StartOutsideMap {
+        /// Start x.
+        x: f64,
+        /// Start y.
+        y: f64,
+        /// Map bounds.
+        x0: f64,
+        /// Map bounds.
+        x1: f64,
+        /// Map bounds.
+        y0: f64,
+        /// Map bounds.
+        y1: f64,
+    },
+    /// The start is not in free space.
+    #[error("start ({x}, {y}) is inside an obstacle or unknown space, not free space")]
+    StartNotFree {
+        /// Start x.
+        x: f64,
+        /// Start y.
+        y: f64,
+    },
+}
+
+/// Why a mission ended.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum StopReason {
+    /// No border between known-Free and Unknown space is left.
+    Complete,
+    /// Border remains, but no reachable position would see anything new.
+    NoReachableFrontier,
+    /// `mission.max_scans` was reached.
+    ScanLimit,
+    /// Targets remain, but none can be reached by CPS cycles (no usable AND region
+    /// even with subgoals).
+    NoCpsMove,
+}
+
+/// One scan and the planning round that followed it.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Step {
+    /// Scan number, from 1.
+    pub scan: usize,
+    /// Where the parent scanned, world frame (cell centre).
+    pub position: Point,
+    /// The scan's cell.
+    pub cell: Cell,
+    /// What the scan added.
+    pub outcome: ScanOutcome,
+    /// Coverage after the scan.
+    pub coverage: f64,
+    /// Wall coverage after the scan.
+    pub wall_coverage: f64,
+    /// Parent travel so far, metres.
+    pub parent_travel_m: f64,
+    /// The planning round after the scan.
+    pub plan: ParentPlan,
+    /// The children's cells during the scan.
+    pub children: Vec<Point>,
+    /// The move that followed: CPS cycles to the target (empty without children or
+    /// when the mission stopped here).
+    #[serde(rename = "move")]
+    pub movement: MoveRecord,
+}
+
+impl Step {
+    /// The path the parent drove after this step, world frame
+    /// ([`parent_path`]).
+    pub fn driven_path(&self) -> Vec<Point> {
+        parent_path(&self.plan, &self.movement)
+    }
+}
+
+/// The parent's path of a planning round and its move, world frame: the CPS
+/// cycles' paths when it moves by cycles, else the planned path (empty without a
+/// target).
+pub fn parent_path(plan: &ParentPlan, movement: &MoveRecord) -> Vec<Point> {
+    if movement.cycles.is_empty() {
+        plan.path.clone()
+    } else {
+        movement
+            .cycles
+            .iter()
+            .flat_map(|c| c.parent_path.iter().copied())
+            .collect()
+    }
+}
+
+/// Totals of an episode.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Summary {
+    /// Number of scans.
+    pub scans: usize,
+    /// Final coverage of reachable free space.
+    pub coverage: f64,
+    /// Final coverage of the walls bordering it.
+    pub wall_coverage: f64,
+    /// Final coverage of all free space 4-connected to the start, reachable or not.
+    pub connected_coverage: f64,
+    /// Total length of the parent's driven paths, metres.
+    pub parent_travel_m: f64,
+    /// Why the episode ended.
+    pub stop_reason: StopReason,
+    /// The seed of every random choice.
+    pub seed: u64,
+    /// CPS cycles run.
+    pub cps_cycles: usize,
+    /// Moves that needed subgoals (section IV-C).
+    pub subgoal_retrievals: usize,
+    /// Total length of each child's driven paths, metres.
+    pub child_travel_m: Vec<f64>,
+}
+
+/// A whole simulated episode.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Episode {
+    /// The parameters used.
+    pub config: Config,
+    /// The start, world frame (cell centre).
+    pub start: Point,
+    /// Every scan in order.
+    pub steps: Vec<Step>,
+    /// Totals.
+    pub summary: Summary,
+    /// The final knowledge map.
+    #[serde(skip)]
+    pub knowledge: Option<OccupancyGrid>,
+}
+
+/// Runs a whole episode on the ground truth `truth` (planning resolution already
+/// applied; anything not Free is solid) from `start`. `on_step` sees every step as
+/// it is recorded (for progress display).
+pub fn run_episode(
+    truth: &OccupancyGrid,
+    start: Point,
+    config: &Config,
+    mut on_step: impl FnMut(&Step),
+) -> Result<Episode, MissionError> {
+    run_episode_with(truth, start, config, |step, _| on_step(step))
+}
+
+/// [`run_episode`], with `on_step` also seeing the knowledge map the step planned
+/// on (after its scan), e.g. to draw that step.
+pub fn run_episode_with(
+    truth: &OccupancyGrid,
+    start: Point,
+    config: &Config,
+    mut on_step: impl FnMut(&Step, &OccupancyGrid),
+) -> Result<Episode, MissionError> {
+    config.validate()?;
+    let truth = truth.solidified();
+    let g = *truth.geometry();
+    let cell = g.world_to_cell(start).ok_or_else(|| {
+        let (ex, ey) = g.extent();
+        MissionError::StartOutsideMap {
+            x: start.x,
+            y: start.y,
+            x0: g.origin.x,
+            x1: g.origin.x + ex,
+            y0: g.origin.y,
+            y1: g.origin.y + ey,
+        }
+    })?;
+    if truth.get(cell) != CellState::Free {
+        return Err(MissionError::StartNotFree {
+            x: start.x,
+            y: start.y,
+        });
+    }
+    let mut knowledge = OccupancyGrid::filled(g, CellState::Unknown);
+    let mut tracker = CoverageTracker::new(&truth, cell, config.robot.radius, &knowledge);
+    let mut rng = ChaCha8Rng::seed_from_u64(config.seed);
+    let mut here = cell;
+    let mut travel = 0.0;
+    let mut children: Vec<Cell> = Vec::new();
+    let mut child_travel = vec![0.0; config.children.count];
+    let (mut cycles, mut retrievals) = (0usize, 0usize);
+    let mut steps: Vec<Step> = Vec::new();
+    let stop_reason = loop {
+        let outcome = scan(&truth, &mut knowledge, here, config.range_cells(), |i| {
+            tracker.note_seen(i)
+        });
+        if steps.is_empty() && config.children.count > 0 {
+            children = team::initial_children(&knowledge, here, config);
+        }
+        let (mut plan, reach, groundwork) = team::plan_round(&knowledge, here, config, &mut rng);
+        let at_limit = steps.len() + 1 >= config.mission.max_scans;
+        let (movement, moved) = match plan.decision {
+            Decision::Target { index } => {
+                if config.children.count == 0 {
+                    let record = MoveRecord {
+                        target: Some(index),
+                        ..MoveRecord::default()
+                    };
+                    let moved = team::Moved {
+                        parent: plan.candidates[index].cell,
+                        children: Vec::new(),
+                        parent_length: plan.path_length_m,
+                        child_lengths: Vec::new(),
+                    };
+                    (record, Some(moved))
+                } else {
+                    team::execute_move(
+                        &knowledge, here, &children, &mut plan, reach, groundwork, config,
+                    )
+                }
+            }
+            _ => (MoveRecord::default(), None),
+        };
+        let step = Step {
+            scan: steps.len() + 1,
+            position: g.cell_center(here),
+            cell: here,
+            outcome,
+            coverage: tracker.coverage(),
+            wall_coverage: tracker.wall_coverage(),
+            parent_travel_m: travel,
+            children: children.iter().map(|&c| g.cell_center(c)).collect(),
+            plan,
+            movement,
+        };
+        on_step(&step, &knowledge);
+        let decision = step.plan.decision;
+        if !at_limit {
+            cycles += step.movement.cycles.len();
+            retrievals += usize::from(step.movement.subgoal_retrieval);
+        }
+        steps.push(step);
+        match (decision, moved) {
+            (Decision::Complete, _) => break StopReason::Complete,
+            (Decision::NoReachableFrontier, _) => break StopReason::NoReachableFrontier,
+            (Decision::Target { .. }, _) if at_limit => break StopReason::ScanLimit,
+            (Decision::Target { .. }, None) => break StopReason::NoCpsMove,
+            (Decision::Target { .. }, Some(moved)) => {
+                here = moved.parent;
+                travel += moved.parent_length;
+                if !moved.children.is_empty() {
+                    children = moved.children;
+                }
+                for (t, l) in child_travel.iter_mut().zip(moved.child_lengths) {
+                    *t += l;
+                }
+            }
+        }
+    };
+    let summary = Summary {
+        scans: steps.len(),
+        coverage: tracker.coverage(),
+        wall_coverage: tracker.wall_coverage(),
+        connected_coverage: tracker.connected_coverage(),
+        parent_travel_m: travel,
+        stop_reason,
+        seed: config.seed,
+        cps_cycles: cycles,
+        subgoal_retrievals: retrievals,
+        child_travel_m: child_travel,
+    };
+    Ok(Episode {
+        config: *config,
+        start: g.cell_center(cell),
+        steps,
+        summary,
+        knowledge: Some(knowledge),
+    })
+}

@@ -1,0 +1,107 @@
+//! The records of a mission's moves: every CPS cycle with the parent's two
+//! positions, the children's places with their Eq. (2) terms and every robot's
+//! driven path, in world metres (what `episode.json` holds).
+
+use std::sync::Arc;
+
+use serde::{Deserialize, Serialize};
+
+use crate::children::{and_region, ChildReach, CycleParams};
+use crate::config::Config;
+use crate::geom::Point;
+use crate::grid::{OccupancyGrid, Terrain};
+use crate::sensing::mutual_view;
+
+/// One child during one CPS cycle.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ChildMove {
+    /// Where it stood before the cycle, world frame.
+    pub from: Point,
+    /// Where it stands while the parent moves.
+    pub to: Point,
+    /// It was already in its AND region and stayed.
+    pub stays: bool,
+    /// Its driven path, world frame.
+    pub path: Vec<Point>,
+    /// Size of its AND region, cells.
+    pub and_region_cells: usize,
+    /// Eq. (2): clearance `1/P` of its spot, metres (when it moved).
+    pub clearance_m: Option<f64>,
+    /// Eq. (2): distance `D` to the parent's target, metres (when it moved).
+    pub distance_m: Option<f64>,
+    /// Eq. (2): angle `θ` to its partner seen from the target, degrees.
+    pub theta_deg: Option<f64>,
+}
+
+/// One CPS cycle as executed.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct CycleRecord {
+    /// The parent's position while the children move, world frame.
+    pub parent_from: Point,
+    /// The parent's position after its move, world frame.
+    pub parent_to: Point,
+    /// The parent's driven path, world frame.
+    pub parent_path: Vec<Point>,
+    /// Every child, in order.
+    pub children: Vec<ChildMove>,
+}
+
+/// A target the parent could not reach by CPS cycles.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct RejectedTarget {
+    /// Index into the step's candidates.
+    pub candidate: usize,
+    /// Why.
+    pub reason: String,
+}
+
+/// The executed move of one step.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, Default)]
+pub struct MoveRecord {
+    /// The candidate actually reached.
+    pub target: Option<usize>,
+    /// Whether subgoals were retrieved.
+    pub subgoal_retrieval: bool,
+    /// With subgoals: the Visibility Graph's shortest path they were taken from
+    /// (its corners, world frame, the parent's position first).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub graph_path: Vec<Point>,
+    /// The cycles in order.
+    pub cycles: Vec<CycleRecord>,
+    /// Candidates tried first and given up.
+    pub rejected: Vec<RejectedTarget>,
+}
+
+/// The AND region of every child of a recorded cycle, recomputed on the knowledge
+/// map the cycle was planned on: per child, a mask over the grid's cells (row-major)
+/// of where that child could have stood (section IV-B). The children's terrain is
+/// taken with the parent at `parent_from`, as the planner takes it with the parent
+/// where the step began. For pictures and checks.
+pub fn cycle_and_regions(
+    knowledge: &OccupancyGrid,
+    cycle: &CycleRecord,
+    config: &Config,
+) -> Vec<Vec<bool>> {
+    let g = knowledge.geometry();
+    let params = CycleParams::from_config(config);
+    let (Some(from), Some(to)) = (
+        g.world_to_cell(cycle.parent_from),
+        g.world_to_cell(cycle.parent_to),
+    ) else {
+        return vec![vec![false; g.len()]; cycle.children.len()];
+    };
+    let mutual = mutual_view(knowledge, from, to, params.link);
+    let terrain = Arc::new(Terrain::new(knowledge, params.child_radius, from));
+    cycle
+        .children
+        .iter()
+        .map(|c| match g.world_to_cell(c.from) {
+            Some(cell) => {
+                let reach = ChildReach::on(&terrain, g, cell)
+                    .unwrap_or_else(|| ChildReach::new(knowledge, cell, params.child_radius));
+                and_region(&mutual, &reach).to_mask(g.len())
+            }
+            None => vec![false; g.len()],
+        })
+        .collect()
+}

@@ -1,0 +1,121 @@
+//! One planning step for a real team on a partial map ([`plan_step`], what
+//! `cpsplan plan` prints).
+
+use rand::SeedableRng;
+use rand_chacha::ChaCha8Rng;
+use serde::{Deserialize, Serialize};
+use thiserror::Error;
+
+use super::record::MoveRecord;
+use super::team;
+use crate::config::{Config, ConfigError};
+use crate::geom::{Cell, Point};
+use crate::grid::{CellState, OccupancyGrid};
+use crate::parent::{Decision, ParentPlan};
+
+/// One planning step for a real team (the library's entry point for field use):
+/// the parent's next target on `knowledge` (a partial map: Unknown cells are
+/// unknown), and, with children, the CPS cycles that take the team there.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct StepPlan {
+    /// The parent's planning round (candidates with their Eq. 1 terms, decision).
+    pub plan: ParentPlan,
+    /// The move: target reached, subgoal flag, CPS cycles with every robot's path.
+    #[serde(rename = "move")]
+    pub movement: MoveRecord,
+}
+
+/// Why a single step cannot be planned.
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum PlanError {
+    /// A parameter is out of range.
+    #[error(transparent)]
+    Config(#[from] ConfigError),
+    /// A robot stands outside the map.
+    #[error("{robot} at ({x}, {y}) is outside the map")]
+    OutsideMap {
+        /// Which robot ("parent", "child 1", ...).
+        robot: String,
+        /// Its x.
+        x: f64,
+        /// Its y.
+        y: f64,
+    },
+    /// A robot stands on a cell that is not known to be free.
+    #[error("{robot} at ({x}, {y}) is not on known free space")]
+    NotFree {
+        /// Which robot.
+        robot: String,
+        /// Its x.
+        x: f64,
+        /// Its y.
+        y: f64,
+    },
+}
+
+/// Plans one step on a partial map: the same computation as the first step of
+/// [`run_episode`](super::run_episode) at that state, with `config.seed` for the random choices.
+///
+/// ```
+/// use cpsplan::mission::plan_step;
+/// use cpsplan::world::builtin::BuiltinMap;
+/// use cpsplan::{run_episode, Config};
+///
+/// // A partial map: the site after one scan.
+/// let mut config = Config::default();
+/// config.mission.max_scans = 1;
+/// let truth = BuiltinMap::Site.generate(0);
+/// let episode = run_episode(&truth, BuiltinMap::Site.default_start(), &config, |_| {})?;
+/// let known = episode.knowledge.unwrap();
+/// let step = plan_step(&known, episode.start, &[], &config)?;
+/// assert!(step.plan.target().is_some());
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn plan_step(
+    knowledge: &OccupancyGrid,
+    parent: Point,
+    children: &[Point],
+    config: &Config,
+) -> Result<StepPlan, PlanError> {
+    config.validate()?;
+    let g = *knowledge.geometry();
+    let locate = |robot: String, p: Point| -> Result<Cell, PlanError> {
+        let cell = g.world_to_cell(p).ok_or(PlanError::OutsideMap {
+            robot: robot.clone(),
+            x: p.x,
+            y: p.y,
+        })?;
+        if knowledge.get(cell) != CellState::Free {
+            return Err(PlanError::NotFree {
+                robot,
+                x: p.x,
+                y: p.y,
+            });
+        }
+        Ok(cell)
+    };
+    let here = locate("parent".into(), parent)?;
+    let kids: Vec<Cell> = children
+        .iter()
+        .enumerate()
+        .map(|(i, &p)| locate(format!("child {}", i + 1), p))
+        .collect::<Result<_, _>>()?;
+    let mut config = *config;
+    config.children.count = kids.len();
+    let mut rng = ChaCha8Rng::seed_from_u64(config.seed);
+    let (mut plan, reach, groundwork) = team::plan_round(knowledge, here, &config, &mut rng);
+    let movement = match plan.decision {
+        Decision::Target { index } if kids.is_empty() => MoveRecord {
+            target: Some(index),
+            ..MoveRecord::default()
+        },
+        Decision::Target { .. } => {
+            team::execute_move(
+                knowledge, here, &kids, &mut plan, reach, groundwork, &config,
+            )
+            .0
+        }
+        _ => MoveRecord::default(),
+    };
+    Ok(StepPlan { plan, movement })
+}

@@ -1,0 +1,321 @@
+//! The team part of a mission step: the parent's planning round with the CPS
+//! planners' groundwork beside it, the children's starting places, and the
+//! parent's move to its target as CPS cycles (paper Fig. 1), with subgoals when
+//! needed (section IV-C), Voronoi drives (IV-D) and the next candidate when even
+//! that fails.
+
+use rand_chacha::ChaCha8Rng;
+
+use super::record::{ChildMove, CycleRecord, MoveRecord, RejectedTarget};
+use crate::children::{CpsCycle, CycleParams, StepMaps};
+use crate::config::Config;
+use crate::geom::{polyline_length, Cell};
+use crate::grid::path::to_world;
+use crate::grid::travel::sweep;
+use crate::grid::{OccupancyGrid, Terrain, Traversability, UNREACHED};
+use crate::motion::{gvd, Roads};
+use crate::parent::{
+    plan_parent_with_reach, relocated_candidate, relocations, ParentPlan, ParentReach,
+    RELOCATE_CANDIDATES,
+};
+use crate::subgoals::{MoveError, MovePlan, Retrieval};
+
+/// The part of a step's CPS planning that does not depend on the parent's
+/// planning round, so that it can be computed while that round runs: the Voronoi
+/// diagrams, and the children's terrain when their radius differs from the
+/// parent's.
+#[derive(Debug)]
+pub struct Groundwork {
+    /// The children's terrain (only when their radius differs from the parent's;
+    /// otherwise the parent's terrain serves).
+    child_terrain: Option<Terrain>,
+    roads: Roads,
+}
+
+impl Groundwork {
+    /// The groundwork for a parent of `parent_radius` metres at `parent` and
+    /// children with `params`.
+    pub fn new(
+        knowledge: &OccupancyGrid,
+        parent: Cell,
+        parent_radius: f64,
+        params: &CycleParams,
+    ) -> Self {
+        let same = parent_radius == params.child_radius;
+        let ((child_terrain, children), parent_gvd) = rayon::join(
+            || {
+                if same {
+                    let trav = Traversability::new(knowledge, params.child_radius, parent);
+                    (None, gvd(knowledge, &trav))
+                } else {
+                    let t = Terrain::new(knowledge, params.child_radius, parent);
+                    let d = gvd(knowledge, &t.trav);
+                    (Some(t), d)
+                }
+            },
+            || {
+                (!same).then(|| {
+                    gvd(
+                        knowledge,
+                        &Traversability::new(knowledge, parent_radius, parent),
+                    )
+                })
+            },
+        );
+        Self {
+            child_terrain,
+            roads: Roads {
+                children,
+                parent: parent_gvd,
+            },
+        }
+    }
+}
+
+/// The parent's planning round (Eq. 1) and, with children, the groundwork of the
+/// CPS planners computed alongside it.
+pub fn plan_round(
+    knowledge: &OccupancyGrid,
+    here: Cell,
+    config: &Config,
+    rng: &mut ChaCha8Rng,
+) -> (ParentPlan, ParentReach, Option<Groundwork>) {
+    let ((plan, reach), groundwork) = rayon::join(
+        || plan_parent_with_reach(knowledge, here, config, rng),
+        || {
+            (config.children.count > 0).then(|| {
+                Groundwork::new(
+                    knowledge,
+                    here,
+                    config.robot.radius,
+                    &CycleParams::from_config(config),
+                )
+            })
+        },
+    );
+    (plan, reach, groundwork)
+}
+
+/// Starting places of the children after the first scan: the drivable cells
+/// nearest (by travel) to the parent that are at least the minimum link range from
+/// it and two radii plus a cell from each other; the parent's own cell if there is
+/// no room.
+pub fn initial_children(knowledge: &OccupancyGrid, parent: Cell, config: &Config) -> Vec<Cell> {
+    let g = knowledge.geometry();
+    let c = &config.children;
+    let trav = Traversability::new(knowledge, c.radius, parent);
+    let field = sweep(g, &trav.passable, &[g.index(parent)], UNREACHED);
+    let mut order: Vec<usize> = (0..g.len())
+        .filter(|&i| trav.traversable[i] && field.reached(i))
+        .collect();
+    order.sort_unstable_by_key(|&i| (field.cost[i], i));
+    let res = g.resolution;
+    let dist = |a: Cell, b: Cell| (a.x as f64 - b.x as f64).hypot(a.y as f64 - b.y as f64) * res;
+    let mut out: Vec<Cell> = Vec::with_capacity(c.count);
+    for i in order {
+        if out.len() == c.count {
+            break;
+        }
+        let cell = g.cell(i);
+        if dist(cell, parent) >= c.min_range + 0.2
+            && out.iter().all(|&o| dist(o, cell) >= 2.0 * c.radius + res)
+        {
+            out.push(cell);
+        }
+    }
+    while out.len() < c.count {
+        out.push(parent);
+    }
+    out
+}
+
+/// Where a move left the robots and how far they drove.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Moved {
+    /// The parent's new cell.
+    pub parent: Cell,
+    /// The children's new cells.
+    pub children: Vec<Cell>,
+    /// The parent's driven length, metres.
+    pub parent_length: f64,
+    /// Each child's driven length, metres.
+    pub child_lengths: Vec<f64>,
+}
+
+/// Moves the parent from `here` to the best reachable candidate of `plan` by CPS
+/// cycles, trying the eligible candidates in decreasing `G`; `reach` is what the
+/// planning round computed for the parent, `groundwork` what [`plan_round`]
+/// computed alongside it (computed here if `None`).
+///
+/// When no candidate can be reached (the paper's planner would stop here), the
+/// [`RELOCATE_CANDIDATES`] best eligible candidates in turn are *relocated*:
+/// drivable cells within
+/// [`RELOCATE_RADIUS_M`](crate::parent::RELOCATE_RADIUS_M) of it that still expect `min_gain_cells` new cells are
+/// tried, best gain first, and the first one a CPS move reaches is appended to
+/// `plan.candidates` (origin `Relocated`) and taken. Returns the record and where
+/// the robots ended up; `None` when nothing can be reached.
+pub fn execute_move(
+    knowledge: &OccupancyGrid,
+    here: Cell,
+    children: &[Cell],
+    plan: &mut ParentPlan,
+    reach: ParentReach,
+    groundwork: Option<Groundwork>,
+    config: &Config,
+) -> (MoveRecord, Option<Moved>) {
+    let params = CycleParams::from_config(config);
+    let Groundwork {
+        child_terrain,
+        roads,
+    } = groundwork
+        .unwrap_or_else(|| Groundwork::new(knowledge, here, config.robot.radius, &params));
+    let ParentReach { trav, field } = reach;
+    let parent_terrain = Terrain::from_sweep(trav, &field);
+    let maps = StepMaps::assemble(knowledge, parent_terrain, child_terrain, &params);
+    let retrieval = Retrieval::new(&maps);
+    let step = TeamStep {
+        maps: &maps,
+        roads: &roads,
+        retrieval: &retrieval,
+    };
+    let mut order: Vec<usize> = (0..plan.candidates.len())
+        .filter(|&i| plan.candidates[i].eligible)
+        .collect();
+    order.sort_by(|&a, &b| {
+        plan.candidates[b]
+            .g
+            .total_cmp(&plan.candidates[a].g)
+            .then(a.cmp(&b))
+    });
+    let mut record = MoveRecord::default();
+    for &index in &order {
+        let target = plan.candidates[index].cell;
+        match step.plan_move(here, target, children) {
+            Ok(m) => return finish(&step, record, index, target, children, &m),
+            Err(e) => {
+                record.rejected.push(RejectedTarget {
+                    candidate: index,
+                    reason: match e {
+                        MoveError::NoPath => "no Visibility Graph path".into(),
+                        MoveError::Stuck { .. } | MoveError::ChildCutOff { .. } => e.to_string(),
+                    },
+                });
+                if let MoveError::ChildCutOff { .. } = e {
+                    // The same for every target: nothing else to try.
+                    return (record, None);
+                }
+            }
+        }
+    }
+    for &index in order.iter().take(RELOCATE_CANDIDATES) {
+        let terrain = maps.parent_terrain();
+        for cell in relocations(knowledge, terrain, plan.candidates[index].cell, config) {
+            if let Ok(m) = step.plan_move(here, cell, children) {
+                let c = relocated_candidate(
+                    knowledge,
+                    cell,
+                    &plan.candidates[index],
+                    &terrain.trav,
+                    &field,
+                    config,
+                );
+                plan.candidates.push(c);
+                let new = plan.candidates.len() - 1;
+                return finish(&step, record, new, cell, children, &m);
+            }
+        }
+    }
+    (record, None)
+}
+
+/// The record and the robots' new places after the planned move `m` to `target`
+/// (candidate `index`).
+fn finish(
+    step: &TeamStep,
+    mut record: MoveRecord,
+    index: usize,
+    target: Cell,
+    children: &[Cell],
+    m: &MovePlan,
+) -> (MoveRecord, Option<Moved>) {
+    record.target = Some(index);
+    record.subgoal_retrieval = m.retrieved;
+    record.graph_path = to_world(step.maps.knowledge().geometry(), &m.graph_path);
+    let mut parent_len = 0.0;
+    let mut child_len = vec![0.0; children.len()];
+    for cycle in &m.cycles {
+        let (rec, plen) = cycle_record(step, cycle);
+        parent_len += plen;
+        for (l, c) in child_len.iter_mut().zip(&rec.children) {
+            *l += polyline_length(&c.path);
+        }
+        record.cycles.push(rec);
+    }
+    let kids = m
+        .cycles
+        .last()
+        .map(|c| c.children.iter().map(|k| k.to).collect())
+        .unwrap_or_else(|| children.to_vec());
+    let moved = Moved {
+        parent: target,
+        children: kids,
+        parent_length: parent_len,
+        child_lengths: child_len,
+    };
+    (record, Some(moved))
+}
+
+/// The record of a cycle with the parent's Voronoi path, and that path's length.
+fn cycle_record(step: &TeamStep, cycle: &CpsCycle) -> (CycleRecord, f64) {
+    let g = step.maps.knowledge().geometry();
+    let cells = step
+        .roads
+        .parent_path(step.maps, cycle.parent_from, cycle.parent_to)
+        .unwrap_or_else(|| vec![cycle.parent_from, cycle.parent_to]);
+    let parent_path = to_world(g, &cells);
+    let length = polyline_length(&parent_path);
+    let children = cycle
+        .children
+        .iter()
+        .map(|c| ChildMove {
+            from: g.cell_center(c.from),
+            to: g.cell_center(c.to),
+            stays: c.stays,
+            path: to_world(g, &c.path),
+            and_region_cells: c.and_region_cells,
+            clearance_m: c.placement.map(|p| p.clearance),
+            distance_m: c.placement.map(|p| p.distance),
+            theta_deg: c.placement.and_then(|p| p.theta).map(f64::to_degrees),
+        })
+        .collect();
+    (
+        CycleRecord {
+            parent_from: g.cell_center(cycle.parent_from),
+            parent_to: g.cell_center(cycle.parent_to),
+            parent_path,
+            children,
+        },
+        length,
+    )
+}
+
+/// The planners of one step's moves: its shared maps, the Voronoi diagrams and the
+/// subgoal retrieval with its Visibility Graph.
+struct TeamStep<'s, 'k> {
+    maps: &'s StepMaps<'k>,
+    roads: &'s Roads,
+    retrieval: &'s Retrieval<'s, 'k>,
+}
+
+impl TeamStep<'_, '_> {
+    /// The move's cycles (section IV-C) with every child's drive (IV-D). A child
+    /// that cannot drive to its spot rejects the move as stuck where its cycle
+    /// starts.
+    fn plan_move(&self, from: Cell, to: Cell, children: &[Cell]) -> Result<MovePlan, MoveError> {
+        let mut plan = self.retrieval.plan_move(from, to, children)?;
+        self.roads
+            .drive(self.maps, &mut plan)
+            .map_err(|e| MoveError::Stuck { at: e.parent_from })?;
+        Ok(plan)
+    }
+}

@@ -1,0 +1,534 @@
+//! The Generalized Voronoi Diagram (GVD) of the known obstacles (paper section
+//! IV-D, "Safety robot movement along Voronoi edge"), as a one-cell-wide skeleton
+//! of drivable cells that robots drive along ([`super::voronoi_path()`]).
+//!
+//! In: the knowledge map and a robot's drivable cells. Out: the [`Gvd`]: skeleton,
+//! clearance, connected parts of the skeleton.
+//!
+//! *Obstacles* are all non-Free cells of the knowledge map (Unknown is as solid as
+//! Occupied) plus the grid's edge. Everything outside the bounding box of the Free
+//! cells is an obstacle, so the diagram is computed in that box plus a one-cell
+//! ring of obstacle cells (the *window*).
+//!
+//! 1. An exact Euclidean *feature transform* gives every cell its nearest obstacle
+//!    cell: per column the nearest obstacle row (two linear sweeps, Meijster et al.
+//!    2000), then per row the lower envelope of parabolas (Felzenszwalb &
+//!    Huttenlocher 2012, breakpoints compared exactly in integers), rows in
+//!    parallel ([`crate::grid::distance`]). The ring puts an obstacle in every column, so
+//!    every cell has a feature.
+//! 2. The obstacles are labelled by their 8-connected components (union-find over
+//!    the row runs of obstacle cells).
+//! 3. Two 4-neighbouring non-obstacle cells `p`, `q` *straddle* a Voronoi edge when
+//!    their nearest obstacle cells `f(p)`, `f(q)` are not 8-adjacent and either lie
+//!    in different components or are seen in directions `f(p) − p`, `f(q) − q` at
+//!    least [`MIN_EDGE_ANGLE_DEG`] apart. The angle test is what finds the edges
+//!    between two faces of one connected wall system (a corridor whose walls meet
+//!    at its ends, a room), which the component test alone would miss; the
+//!    adjacency test keeps the two sides of one straight wall from making an edge.
+//!    Concave corners of at least `180° − MIN_EDGE_ANGLE_DEG` interior angle get
+//!    their bisector spur, as in the exact GVD. Each pair is tested once.
+//! 4. Of a straddling pair only the cell nearer to equidistance is marked: the one
+//!    with the smaller excess `|p − f(q)| − |p − f(p)|` (ties: the lower index).
+//!    The result is a one-cell-wide, 8-connected skeleton. Only drivable cells
+//!    (`Traversability::passable`) are kept, and their connected parts are
+//!    labelled ([`Gvd::edge_component`]).
+//!
+//! Parameters: [`MIN_EDGE_ANGLE_DEG`]; the robot radius enters through the
+//! [`Traversability`] masks. Cost: O(cells of the window) time and a handful of
+//! buffers of that size, no per-cell allocation; an 800 × 600 map takes about 5 ms
+//! (docs/PERFORMANCE.md).
+//!
+
+use rayon::prelude::*;
+
+use crate::grid::distance::feature_transform;
+use crate::grid::{CellState, GridGeometry, OccupancyGrid, Traversability};
+
+/// Smallest angle, degrees, between the directions to the nearest obstacle cells of
+/// two neighbouring cells for them to straddle a Voronoi edge when both obstacle
+/// cells belong to the same connected obstacle.
+pub const MIN_EDGE_ANGLE_DEG: f64 = 60.0;
+
+/// No index.
+const NONE: u32 = u32::MAX;
+
+/// The Generalized Voronoi Diagram of a knowledge map's obstacles, as a skeleton of
+/// drivable cells.
+#[derive(Debug, Clone)]
+pub struct Gvd {
+    /// Per cell (row-major, row 0 at the bottom): the cell lies on a Voronoi edge
+    /// and is drivable. One cell wide, 8-connected along an edge.
+    pub skeleton: Vec<bool>,
+    /// Per cell: distance in cells from the cell's centre to the centre of the
+    /// nearest non-Free cell or of the ring of cells just outside the grid (0 on
+    /// non-Free cells).
+    pub clearance: Vec<f32>,
+    /// Per cell: the connected part of the skeleton it belongs to (`u32::MAX` off
+    /// the skeleton).
+    pub edge_component: Vec<u32>,
+}
+
+impl Gvd {
+    /// Number of skeleton cells.
+    pub fn count(&self) -> usize {
+        self.skeleton.iter().filter(|&&s| s).count()
+    }
+}
+
+/// The GVD of the non-Free cells of `knowledge` (and the grid's edge), restricted
+/// to the cells with `trav.passable`. See the module documentation for the method.
+pub fn gvd(knowledge: &OccupancyGrid, trav: &Traversability) -> Gvd {
+    let g = knowledge.geometry();
+    let (w, n) = (g.width, g.len());
+    let mut skeleton = vec![false; n];
+    let mut clearance = vec![0.0f32; n];
+    // Everything outside the bounding box of the Free cells is an obstacle, so the
+    // box plus a one-cell ring (the window) is all that matters.
+    let Some((x0, y0, x1, y1)) = free_bounds(knowledge) else {
+        return Gvd {
+            skeleton,
+            clearance,
+            edge_component: vec![NONE; n],
+        };
+    };
+    let (bw, bh) = (x1 - x0 + 1, y1 - y0 + 1);
+    let (pw, ph) = (bw + 2, bh + 2);
+    let k = knowledge.cells();
+    // Obstacles of the window: the ring and every non-Free cell.
+    let mut obstacle = vec![true; pw * ph];
+    for y in 0..bh {
+        let row = &k[(y0 + y) * w + x0..][..bw];
+        let out = &mut obstacle[(y + 1) * pw + 1..][..bw];
+        for (o, &s) in out.iter_mut().zip(row) {
+            *o = s != CellState::Free;
+        }
+    }
+    let (feature, d2) = feature_transform(pw, ph, &obstacle);
+    let component = components(pw, ph, &obstacle);
+    let cos_min = MIN_EDGE_ANGLE_DEG.to_radians().cos();
+    let cos2_min = cos_min * cos_min;
+    let passable = &trav.passable;
+
+    // Each straddling pair of 4-neighbours once: the pair of a window cell with
+    // its right neighbour and with its upper neighbour, and which of the two wins.
+    let mut right = vec![PAIR_NONE; pw * ph];
+    let mut up = vec![PAIR_NONE; pw * ph];
+    right
+        .par_chunks_mut(pw)
+        .zip(up.par_chunks_mut(pw))
+        .enumerate()
+        .skip(1)
+        .take(bh)
+        .for_each(|(py, (right_row, up_row))| {
+            for px in 1..=bw {
+                let p = Site::new(pw, px, py);
+                if obstacle[p.i] {
+                    continue;
+                }
+                for (q, out) in [
+                    (Site::new(pw, px + 1, py), &mut right_row[px]),
+                    (Site::new(pw, px, py + 1), &mut up_row[px]),
+                ] {
+                    if !obstacle[q.i] && straddles(pw, p, q, &feature, &d2, &component, cos2_min) {
+                        *out = if wins(p, q, &feature, &d2) {
+                            PAIR_FIRST
+                        } else {
+                            PAIR_SECOND
+                        };
+                    }
+                }
+            }
+        });
+    skeleton[y0 * w..(y1 + 1) * w]
+        .par_chunks_mut(w)
+        .zip(clearance[y0 * w..(y1 + 1) * w].par_chunks_mut(w))
+        .enumerate()
+        .for_each(|(by, (row, clear_row))| {
+            let y = y0 + by;
+            let src = &d2[(by + 1) * pw + 1..][..bw];
+            for (c, &d) in clear_row[x0..=x1].iter_mut().zip(src) {
+                *c = (d as f64).sqrt() as f32;
+            }
+            for (bx, s) in row[x0..=x1].iter_mut().enumerate() {
+                if !passable[y * w + x0 + bx] {
+                    continue;
+                }
+                let i = (by + 1) * pw + bx + 1;
+                *s = right[i] == PAIR_FIRST
+                    || right[i - 1] == PAIR_SECOND
+                    || up[i] == PAIR_FIRST
+                    || up[i - pw] == PAIR_SECOND;
+            }
+        });
+    let edge_component = edge_components(g, passable, &skeleton);
+    Gvd {
+        skeleton,
+        clearance,
+        edge_component,
+    }
+}
+
+/// Inclusive bounds `(x0, y0, x1, y1)` of the Free cells, if any.
+fn free_bounds(knowledge: &OccupancyGrid) -> Option<(usize, usize, usize, usize)> {
+    let w = knowledge.width();
+    let mut b: Option<(usize, usize, usize, usize)> = None;
+    for (y, row) in knowledge.cells().chunks(w).enumerate() {
+        let Some(first) = row.iter().position(|&c| c == CellState::Free) else {
+            continue;
+        };
+        let last = row
+            .iter()
+            .rposition(|&c| c == CellState::Free)
+            .unwrap_or(first);
+        b = Some(match b {
+            None => (first, y, last, y),
+            Some((x0, y0, x1, _)) => (x0.min(first), y0, x1.max(last), y),
+        });
+    }
+    b
+}
+
+/// A cell of the padded window: index and coordinates.
+#[derive(Clone, Copy)]
+struct Site {
+    i: usize,
+    x: i64,
+    y: i64,
+}
+
+impl Site {
+    #[inline]
+    fn new(pw: usize, x: usize, y: usize) -> Self {
+        Self {
+            i: y * pw + x,
+            x: x as i64,
+            y: y as i64,
+        }
+    }
+}
+
+/// Squared distance from `c` to the obstacle cell `f`.
+#[inline]
+fn dist2(c: Site, f: (u32, u32)) -> i64 {
+    (c.x - f.0 as i64).pow(2) + (c.y - f.1 as i64).pow(2)
+}
+
+/// A pair of neighbours that straddles no edge.
+const PAIR_NONE: u8 = 0;
+/// The pair straddles an edge and its first cell (left or lower) wins.
+const PAIR_FIRST: u8 = 1;
+/// The pair straddles an edge and its second cell wins.
+const PAIR_SECOND: u8 = 2;
+
+/// Whether neighbours `p` and `q` lie on different sides of a Voronoi edge (a
+/// symmetric relation); `cos2_min` is the squared cosine of
+/// [`MIN_EDGE_ANGLE_DEG`].
+#[inline]
+fn straddles(
+    pw: usize,
+    p: Site,
+    q: Site,
+    feature: &[(u32, u32)],
+    d2: &[u32],
+    component: &[u32],
+    cos2_min: f64,
+) -> bool {
+    let (fp, fq) = (feature[p.i], feature[q.i]);
+    if fp.0.abs_diff(fq.0) <= 1 && fp.1.abs_diff(fq.1) <= 1 {
+        return false; // same or touching obstacle cells: one side of one wall
+    }
+    let index = |f: (u32, u32)| f.1 as usize * pw + f.0 as usize;
+    if component[index(fp)] != component[index(fq)] {
+        return true;
+    }
+    let vp = (fp.0 as i64 - p.x, fp.1 as i64 - p.y);
+    let vq = (fq.0 as i64 - q.x, fq.1 as i64 - q.y);
+    // The angle between the two directions is at least the minimum:
+    // dot ≤ cos_min · |vp| · |vq|, squared (cos_min > 0).
+    let dot = vp.0 * vq.0 + vp.1 * vq.1;
+    dot <= 0 || (dot as f64).powi(2) <= cos2_min * (d2[p.i] as f64) * (d2[q.i] as f64)
+}
+
+/// Whether `p` rather than its straddling neighbour `q` is the skeleton cell: the
+/// one nearer to equidistance from the two obstacle cells.
+#[inline]
+fn wins(p: Site, q: Site, feature: &[(u32, u32)], d2: &[u32]) -> bool {
+    let excess =
+        |c: Site, other: (u32, u32)| (dist2(c, other) as f64).sqrt() - (d2[c.i] as f64).sqrt();
+    let (ep, eq) = (excess(p, feature[q.i]), excess(q, feature[p.i]));
+    ep < eq || (ep == eq && p.i < q.i)
+}
+
+/// Labels of the 8-connected components of the obstacle cells ([`NONE`] elsewhere;
+/// a component's label is some number shared by its cells and no other's).
+///
+/// Union-find over the row runs of obstacle cells: a run joins every run of the row
+/// below that overlaps it or touches it diagonally. Linear in the cells, and fast
+/// where obstacles are large solid areas.
+fn components(pw: usize, ph: usize, obstacle: &[bool]) -> Vec<u32> {
+    // Runs: (row, first column, last column), row by row.
+    let mut runs: Vec<(usize, usize, usize)> = Vec::new();
+    let mut row_start = Vec::with_capacity(ph + 1);
+    for y in 0..ph {
+        row_start.push(runs.len());
+        let row = &obstacle[y * pw..][..pw];
+        let mut x = 0;
+        while x < pw {
+            if row[x] {
+                let first = x;
+                while x < pw && row[x] {
+                    x += 1;
+                }
+                runs.push((y, first, x - 1));
+            } else {
+                x += 1;
+            }
+        }
+    }
+    row_start.push(runs.len());
+    let mut parent: Vec<u32> = (0..runs.len() as u32).collect();
+    fn root(parent: &mut [u32], mut i: u32) -> u32 {
+        while parent[i as usize] != i {
+            let up = parent[parent[i as usize] as usize];
+            parent[i as usize] = up;
+            i = up;
+        }
+        i
+    }
+    for y in 1..ph {
+        let below = row_start[y - 1]..row_start[y];
+        let mut j = below.start;
+        for i in row_start[y]..row_start[y + 1] {
+            let (_, a0, a1) = runs[i];
+            // Runs of the row below that end before this run starts (diagonal
+            // contact allowed) cannot touch later runs either.
+            while j < below.end && runs[j].2 + 1 < a0 {
+                j += 1;
+            }
+            let mut k = j;
+            while k < below.end && runs[k].1 <= a1 + 1 {
+                let (ra, rb) = (root(&mut parent, i as u32), root(&mut parent, k as u32));
+                if ra != rb {
+                    parent[ra.max(rb) as usize] = ra.min(rb);
+                }
+                k += 1;
+            }
+        }
+    }
+    let mut label = vec![NONE; pw * ph];
+    for (i, &(y, a, b)) in runs.iter().enumerate() {
+        let r = root(&mut parent, i as u32);
+        label[y * pw + a..=y * pw + b].fill(r);
+    }
+    label
+}
+
+/// Labels of the connected parts of the skeleton: 8-neighbouring skeleton cells
+/// are connected where a diagonal step has both cells beside it passable (the
+/// steps the path search takes). [`NONE`] off the skeleton.
+fn edge_components(g: &GridGeometry, passable: &[bool], skeleton: &[bool]) -> Vec<u32> {
+    let (w, h) = (g.width as i64, g.height as i64);
+    let mut label = vec![NONE; g.len()];
+    let mut stack = Vec::new();
+    let mut next = 0u32;
+    for start in 0..g.len() {
+        if !skeleton[start] || label[start] != NONE {
+            continue;
+        }
+        label[start] = next;
+        stack.push(start);
+        while let Some(i) = stack.pop() {
+            let (x, y) = ((i as i64) % w, (i as i64) / w);
+            for dy in -1..=1i64 {
+                for dx in -1..=1i64 {
+                    let (nx, ny) = (x + dx, y + dy);
+                    if nx < 0 || ny < 0 || nx >= w || ny >= h {
+                        continue;
+                    }
+                    let j = (ny * w + nx) as usize;
+                    if !skeleton[j] || label[j] != NONE {
+                        continue;
+                    }
+                    if dx != 0
+                        && dy != 0
+                        && (!passable[(y * w + nx) as usize] || !passable[(ny * w + x) as usize])
+                    {
+                        continue;
+                    }
+                    label[j] = next;
+                    stack.push(j);
+                }
+            }
+        }
+        next += 1;
+    }
+    label
+}
+
+#[cfg(test)]
+pub(super) mod tests {
+    use super::*;
+    use crate::geom::Cell;
+    use crate::geom::Point;
+    use crate::grid::search::search;
+    use proptest::prelude::*;
+
+    const RES: f64 = 0.1;
+    const RADIUS: f64 = 0.25;
+
+    /// A map of Free cells inside a one-cell Occupied frame, with Occupied
+    /// rectangles `(x, y, w, h)`.
+    pub(in crate::motion) fn room(
+        w: usize,
+        h: usize,
+        rects: &[(usize, usize, usize, usize)],
+    ) -> OccupancyGrid {
+        let g = GridGeometry::new(w, h, RES, Point::new(-1.0, 2.0));
+        let mut t = OccupancyGrid::filled(g, CellState::Occupied);
+        t.fill_rect(1, 1, w - 1, h - 1, CellState::Free);
+        for &(x, y, rw, rh) in rects {
+            t.fill_rect(x % w, y % h, x % w + rw, y % h + rh, CellState::Occupied);
+        }
+        t
+    }
+
+    pub(in crate::motion) fn skeleton_of(
+        map: &OccupancyGrid,
+        robot: Cell,
+    ) -> (Traversability, Gvd) {
+        let trav = Traversability::new(map, RADIUS, robot);
+        let d = gvd(map, &trav);
+        (trav, d)
+    }
+
+    fn skeleton_rows(map: &OccupancyGrid, d: &Gvd, x: usize) -> Vec<usize> {
+        let g = map.geometry();
+        (0..g.height)
+            .filter(|&y| d.skeleton[g.index(Cell::new(x, y))])
+            .collect()
+    }
+
+    #[test]
+    fn odd_corridor_skeleton_is_the_centre_line() {
+        // Free rows 1..=19: the centre row is 10.
+        let map = room(60, 21, &[]);
+        let (_, d) = skeleton_of(&map, Cell::new(30, 10));
+        for x in 15..45 {
+            assert_eq!(skeleton_rows(&map, &d, x), vec![10], "column {x}");
+        }
+    }
+
+    #[test]
+    fn even_corridor_skeleton_is_one_row() {
+        // Free rows 1..=18: the centre line lies between rows 9 and 10.
+        let map = room(60, 20, &[]);
+        let (_, d) = skeleton_of(&map, Cell::new(30, 10));
+        for x in 15..45 {
+            assert_eq!(skeleton_rows(&map, &d, x), vec![9], "column {x}");
+        }
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig { cases: 64, ..ProptestConfig::default() })]
+
+        /// The run-based labelling groups cells exactly as a flood fill does.
+        #[test]
+        fn components_match_a_flood_fill(
+            w in 1usize..30,
+            h in 1usize..30,
+            cells in proptest::collection::vec(any::<bool>(), 900),
+        ) {
+            let obstacle = &cells[..w * h];
+            let label = components(w, h, obstacle);
+            let mut flood = vec![NONE; w * h];
+            let mut next = 0;
+            for s in 0..w * h {
+                if !obstacle[s] || flood[s] != NONE {
+                    continue;
+                }
+                let mut stack = vec![s];
+                flood[s] = next;
+                while let Some(i) = stack.pop() {
+                    let (x, y) = ((i % w) as i64, (i / w) as i64);
+                    for (dx, dy) in [(-1, -1), (0, -1), (1, -1), (-1, 0), (1, 0), (-1, 1), (0, 1), (1, 1)] {
+                        let (nx, ny) = (x + dx, y + dy);
+                        if nx < 0 || ny < 0 || nx >= w as i64 || ny >= h as i64 {
+                            continue;
+                        }
+                        let j = (ny * w as i64 + nx) as usize;
+                        if obstacle[j] && flood[j] == NONE {
+                            flood[j] = next;
+                            stack.push(j);
+                        }
+                    }
+                }
+                next += 1;
+            }
+            for i in 0..w * h {
+                prop_assert_eq!(label[i] == NONE, !obstacle[i]);
+                for j in 0..w * h {
+                    if obstacle[i] && obstacle[j] {
+                        prop_assert_eq!(label[i] == label[j], flood[i] == flood[j]);
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn separate_corridors_have_separate_edge_components() {
+        // A full wall splits the room into two corridors.
+        let map = room(60, 30, &[(30, 0, 2, 30)]);
+        let (_, d) = skeleton_of(&map, Cell::new(10, 15));
+        let g = map.geometry();
+        let parts = |xs: std::ops::Range<usize>| -> std::collections::BTreeSet<u32> {
+            (0..g.len())
+                .filter(|&i| d.skeleton[i] && xs.contains(&g.cell(i).x))
+                .map(|i| d.edge_component[i])
+                .collect()
+        };
+        let (left, right) = (parts(0..30), parts(32..60));
+        assert!(!left.is_empty() && !right.is_empty());
+        assert!(left.is_disjoint(&right), "{left:?} {right:?}");
+        assert!(!left.contains(&u32::MAX));
+    }
+
+    #[test]
+    fn skeleton_passes_on_both_sides_of_a_pillar() {
+        let map = room(60, 60, &[(25, 25, 10, 10)]);
+        let (trav, d) = skeleton_of(&map, Cell::new(5, 5));
+        let g = map.geometry();
+        let col = skeleton_rows(&map, &d, 30);
+        assert!(col.iter().any(|&y| y < 25), "{col:?}");
+        assert!(col.iter().any(|&y| y > 35), "{col:?}");
+        let row: Vec<usize> = (0..60)
+            .filter(|&x| d.skeleton[g.index(Cell::new(x, 30))])
+            .collect();
+        assert!(row.iter().any(|&x| x < 25), "{row:?}");
+        assert!(row.iter().any(|&x| x > 35), "{row:?}");
+        // Midway between pillar and wall, one cell wide.
+        assert!(col
+            .iter()
+            .all(|&y| (12..=13).contains(&y) || (46..=47).contains(&y)));
+        // The ring around the pillar is connected, by the steps a path takes.
+        let part = d.edge_component[g.index(Cell::new(30, col[0]))];
+        for c in [
+            Cell::new(30, *col.last().unwrap()),
+            Cell::new(row[0], 30),
+            Cell::new(*row.last().unwrap(), 30),
+        ] {
+            assert_eq!(d.edge_component[g.index(c)], part, "{c:?}");
+            let open = |i: usize| trav.passable[i];
+            let ci = g.index(c);
+            let along = search(
+                g,
+                g.index(Cell::new(30, col[0])),
+                |i| d.skeleton[i],
+                open,
+                |i| i == ci,
+                |_| 0,
+            );
+            assert!(along.is_some(), "{c:?}");
+        }
+    }
+}

@@ -1,0 +1,55 @@
+//! The band of section IV-A-1, step 2: the known-Free cells within a threshold of
+//! the border, where the candidate samples are scattered.
+//!
+//! In: the knowledge map and its border cells ([`super::border`]). Out: the band's
+//! cells and their travel distances from the border.
+
+use crate::grid::travel::sweep_cells;
+use crate::grid::{CellState, DistanceField, OccupancyGrid, UNREACHED};
+
+/// The band: known-Free cells whose travel distance through known-Free space to the
+/// nearest border cell is at most `width` metres. Returns the band's cells in
+/// index order and the distance field from the border.
+pub fn band(
+    knowledge: &OccupancyGrid,
+    border: &[usize],
+    width: f64,
+) -> (Vec<usize>, DistanceField) {
+    let g = knowledge.geometry();
+    let field = sweep_cells(
+        g,
+        knowledge.cells(),
+        |c| c == CellState::Free,
+        border,
+        DistanceField::cost_of(width, g.resolution),
+    );
+    let cells = field
+        .cost
+        .iter()
+        .enumerate()
+        .filter(|&(_, &c)| c != UNREACHED)
+        .map(|(i, _)| i)
+        .collect();
+    (cells, field)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geom::{Cell, Point};
+    use crate::grid::GridGeometry;
+    use crate::parent::border::border_cells;
+
+    #[test]
+    fn band_of_a_half_known_strip() {
+        let g = GridGeometry::new(40, 5, 0.1, Point::default());
+        let mut k = OccupancyGrid::filled(g, CellState::Unknown);
+        k.fill_rect(0, 0, 20, 5, CellState::Free);
+        let b = border_cells(&k);
+        let (cells, _) = band(&k, &b, 0.5);
+        // Columns 14..=19 are within 0.5 m of column 19.
+        assert_eq!(cells.len(), 6 * 5);
+        assert!(cells.iter().all(|&i| g.cell(i).x >= 14));
+        assert!(!cells.contains(&g.index(Cell::new(13, 2))));
+    }
+}

@@ -1,0 +1,175 @@
+//! The border of section IV-A-1, step 1: the lines between known-Free and Unknown
+//! space (paper Fig. 4, cyan).
+//!
+//! In: the knowledge map. Out: the border cells, and the border without the
+//! isolated notches that lead nowhere ([`significant_border`]).
+
+use crate::grid::{CellState, GridGeometry, OccupancyGrid};
+
+/// Known-Free cells with an Unknown 4-neighbour: the border lines of Fig. 4, in
+/// index order.
+pub fn border_cells(knowledge: &OccupancyGrid) -> Vec<usize> {
+    let g = knowledge.geometry();
+    let (w, h) = (g.width, g.height);
+    let k = knowledge.cells();
+    let mut out = Vec::new();
+    if w == 0 || h == 0 {
+        return out;
+    }
+    // Row by row, in straight loops over whole rows: `near[x]` is whether a
+    // 4-neighbour of (x, y) is Unknown (outside the grid counts as known).
+    let unknown = |c: &CellState| u8::from(*c == CellState::Unknown);
+    let mut here = vec![0u8; w];
+    let mut near = vec![0u8; w];
+    for y in 0..h {
+        let row = &k[y * w..][..w];
+        for (u, c) in here.iter_mut().zip(row) {
+            *u = unknown(c);
+        }
+        near.fill(0);
+        for (n, &u) in near[1..].iter_mut().zip(&here[..w - 1]) {
+            *n |= u;
+        }
+        for (n, &u) in near[..w - 1].iter_mut().zip(&here[1..]) {
+            *n |= u;
+        }
+        for other in [y.checked_sub(1), Some(y + 1).filter(|&a| a < h)]
+            .into_iter()
+            .flatten()
+        {
+            for (n, c) in near.iter_mut().zip(&k[other * w..][..w]) {
+                *n |= unknown(c);
+            }
+        }
+        for (n, c) in near.iter_mut().zip(row) {
+            *n &= u8::from(*c == CellState::Free);
+        }
+        for (x, &n) in near.iter().enumerate() {
+            if n != 0 {
+                out.push(y * w + x);
+            }
+        }
+    }
+    out
+}
+
+/// Keeps the border cells that belong to 8-connected groups of at least
+/// `min_cells` cells. A lone border cell or two is a notch in a wall seen at a
+/// grazing angle, not a way into unknown space: through it `S` counts the whole
+/// unknown region behind the wall, while a scan reveals a cell or two.
+pub fn significant_border(
+    geometry: &GridGeometry,
+    border: &[usize],
+    min_cells: usize,
+) -> Vec<usize> {
+    if min_cells <= 1 || border.is_empty() {
+        return border.to_vec();
+    }
+    let (w, h) = (geometry.width as i64, geometry.height as i64);
+    // 0: not border, 1: border not yet grouped, 2: grouped.
+    let mut mark = vec![0u8; geometry.len()];
+    for &b in border {
+        mark[b] = 1;
+    }
+    let mut keep = Vec::with_capacity(border.len());
+    let mut group = Vec::new();
+    for &b in border {
+        if mark[b] != 1 {
+            continue;
+        }
+        mark[b] = 2;
+        group.clear();
+        group.push(b);
+        let mut next = 0;
+        while next < group.len() {
+            let i = group[next];
+            next += 1;
+            let (x, y) = ((i as i64) % w, (i as i64) / w);
+            for dy in -1..=1 {
+                for dx in -1..=1 {
+                    let (nx, ny) = (x + dx, y + dy);
+                    if nx < 0 || ny < 0 || nx >= w || ny >= h {
+                        continue;
+                    }
+                    let j = (ny * w + nx) as usize;
+                    if mark[j] == 1 {
+                        mark[j] = 2;
+                        group.push(j);
+                    }
+                }
+            }
+        }
+        if group.len() >= min_cells {
+            keep.extend_from_slice(&group);
+        }
+    }
+    keep.sort_unstable();
+    keep
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geom::Point;
+    use crate::grid::GridGeometry;
+
+    #[test]
+    fn border_of_a_half_known_strip() {
+        let g = GridGeometry::new(40, 5, 0.1, Point::default());
+        let mut k = OccupancyGrid::filled(g, CellState::Unknown);
+        k.fill_rect(0, 0, 20, 5, CellState::Free);
+        let b = border_cells(&k);
+        assert_eq!(b.len(), 5);
+        assert!(b.iter().all(|&i| g.cell(i).x == 19));
+    }
+
+    #[test]
+    fn occupied_cells_are_never_border() {
+        let g = GridGeometry::new(3, 1, 1.0, Point::default());
+        let k = OccupancyGrid::from_cells(
+            g,
+            vec![CellState::Occupied, CellState::Unknown, CellState::Occupied],
+        )
+        .unwrap();
+        assert!(border_cells(&k).is_empty());
+    }
+
+    /// The border rule cell by cell, for comparison.
+    fn reference_border(knowledge: &OccupancyGrid) -> Vec<usize> {
+        let g = knowledge.geometry();
+        let (w, h) = (g.width, g.height);
+        let k = knowledge.cells();
+        let mut out = Vec::new();
+        for y in 0..h {
+            for x in 0..w {
+                let i = y * w + x;
+                if k[i] != CellState::Free {
+                    continue;
+                }
+                let unknown = (x > 0 && k[i - 1] == CellState::Unknown)
+                    || (x + 1 < w && k[i + 1] == CellState::Unknown)
+                    || (y > 0 && k[i - w] == CellState::Unknown)
+                    || (y + 1 < h && k[i + w] == CellState::Unknown);
+                if unknown {
+                    out.push(i);
+                }
+            }
+        }
+        out
+    }
+
+    proptest::proptest! {
+        #[test]
+        fn border_matches_the_cell_by_cell_rule(
+            w in 1usize..25,
+            h in 1usize..25,
+            bits in proptest::collection::vec(0u8..3, 625),
+        ) {
+            let g = GridGeometry::new(w, h, 0.1, Point::default());
+            let states = [CellState::Unknown, CellState::Free, CellState::Occupied];
+            let cells = (0..g.len()).map(|i| states[bits[i] as usize]).collect();
+            let k = OccupancyGrid::from_cells(g, cells).unwrap();
+            proptest::prop_assert_eq!(border_cells(&k), reference_border(&k));
+        }
+    }
+}

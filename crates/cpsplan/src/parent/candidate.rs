@@ -1,0 +1,111 @@
+//! The parent's candidate target points (section IV-A-2) and their Eq. (1) terms.
+//!
+//! In: a candidate cell, the parent's drivable cells and travel distances of the
+//! round. Out: a [`Candidate`] with `R`, `P`, `L` and `S` (the score `G` is set by
+//! [`super::score`] over all candidates of a round).
+
+use serde::{Deserialize, Serialize};
+
+use super::score::Terms;
+use crate::config::Config;
+use crate::geom::{Cell, Point};
+use crate::grid::{DistanceField, GridGeometry, Traversability};
+
+/// How a candidate was obtained.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum CandidateOrigin {
+    /// The k-means centroid itself.
+    Centroid,
+    /// The centroid was not a valid position; the cluster's nearest valid sample.
+    Snapped,
+    /// Found by the reachable-frontier search after every centroid failed.
+    Fallback,
+    /// A cell near a candidate that no CPS move could reach, taken instead of it
+    /// (see `mission`); it keeps that candidate's `G`.
+    Relocated,
+}
+
+/// One candidate target of the parent with the terms of Eq. (1).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Candidate {
+    /// Candidate position (cell centre), world frame.
+    pub position: Point,
+    /// Candidate cell.
+    pub cell: Cell,
+    /// The k-means centroid it came from, world frame.
+    pub centroid: Point,
+    /// How it was obtained.
+    pub origin: CandidateOrigin,
+    /// Samples in its cluster.
+    pub cluster_size: usize,
+    /// `R` of Eq. (1): 1 for a known-Free, reachable cell with the robot's clearance.
+    pub r: u8,
+    /// `P` of Eq. (1): the potential, inverse of the clearance (1/m).
+    pub p: f64,
+    /// The clearance `1/P` in metres (capped at the scanner range).
+    pub clearance_m: f64,
+    /// `L` of Eq. (1): travel distance in metres, `None` if unreachable.
+    pub l_m: Option<f64>,
+    /// `S` of Eq. (1): expected newly scanned cells (0 when `R = 0`).
+    pub s_cells: usize,
+    /// `G` of Eq. (1).
+    pub g: f64,
+    /// `R = 1` and `S ≥ min_gain_cells`: may be chosen.
+    pub eligible: bool,
+}
+
+/// A candidate with no terms yet (`R = 0`, not eligible).
+pub(super) fn new_candidate(
+    cell: Cell,
+    centroid: Point,
+    origin: CandidateOrigin,
+    cluster_size: usize,
+    g: &GridGeometry,
+) -> Candidate {
+    Candidate {
+        position: g.cell_center(cell),
+        cell,
+        centroid,
+        origin,
+        cluster_size,
+        r: 0,
+        p: 0.0,
+        clearance_m: 0.0,
+        l_m: None,
+        s_cells: 0,
+        g: 0.0,
+        eligible: false,
+    }
+}
+
+/// The raw Eq. (1) terms of a candidate whose `s_cells` is already known.
+pub(super) fn candidate_terms(
+    c: &Candidate,
+    g: &GridGeometry,
+    trav: &Traversability,
+    field: &DistanceField,
+    config: &Config,
+) -> Terms {
+    let i = g.index(c.cell);
+    let reachable = trav.traversable[i] && field.reached(i);
+    Terms {
+        reachable,
+        // Guard: with no known obstacle the clearance is capped at the range.
+        clearance: (trav.clearance_at(i) as f64).min(config.scanner.range),
+        travel: field.metres(i).unwrap_or(f64::INFINITY),
+        gain: c.s_cells,
+    }
+}
+
+/// Sets `R`, `P`, the clearance and `L` from the raw terms.
+pub(super) fn fill_terms(c: &mut Candidate, t: Terms) {
+    c.r = u8::from(t.reachable);
+    c.clearance_m = t.clearance;
+    c.p = if t.clearance > 0.0 {
+        1.0 / t.clearance
+    } else {
+        f64::INFINITY
+    };
+    c.l_m = t.reachable.then_some(t.travel);
+}

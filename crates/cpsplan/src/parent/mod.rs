@@ -1,0 +1,36 @@
+//! The parent planner (pipeline stage 3, paper section IV-A): where the parent
+//! scans next.
+//!
+//! In: the knowledge map after a scan and the parent's position. Out: a
+//! [`ParentPlan`]: the border (step 1), the band and its samples (step 2), k-means
+//! clusters (step 3), their centroids as candidates (step 4), each scored by
+//! Eq. (1) `G = R·(1/P + α/L + β·S)`, and the chosen target.
+//!
+//! - [`border_cells`], [`significant_border`]: step 1 (`border`).
+//! - [`band()`]: step 2's band; [`scatter`], [`cluster_count`]: the samples and `k`.
+//! - [`kmeans()`]: step 3.
+//! - [`Candidate`]: step 4 and the terms of Eq. (1); [`evaluate`]: `G`.
+//! - [`plan_parent`]: one whole round.
+//! - [`relocations`], [`relocated_candidate`]: targets near a candidate that no CPS
+//!   move reaches (beyond the paper).
+
+mod band;
+mod border;
+mod candidate;
+mod kmeans;
+mod planner;
+mod relocation;
+mod samples;
+mod score;
+
+pub use band::band;
+pub use border::{border_cells, significant_border};
+pub use candidate::{Candidate, CandidateOrigin};
+pub use kmeans::{kmeans, Clustering};
+pub use planner::{plan_parent, plan_parent_with_reach, Decision, ParentPlan, ParentReach};
+pub use relocation::{
+    relocated_candidate, relocations, RELOCATE_CANDIDATES, RELOCATE_RADIUS_M, RELOCATE_SPACING_M,
+    RELOCATE_TRIES,
+};
+pub use samples::{band_area, cluster_count, scatter};
+pub use score::{evaluate, Terms};

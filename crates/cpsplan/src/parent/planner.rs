@@ -1,0 +1,281 @@
+//! One planning round of the parent (section IV-A): border, band, samples,
+//! k-means, candidates scored by Eq. (1); the best reachable one is the next scan
+//! position.
+//!
+//! In: the knowledge map, the parent's cell, the configuration and the seeded RNG.
+//! Out: a [`ParentPlan`] (every candidate with its terms, the decision, the drivable
+//! path) and the parent's [`ParentReach`] for the CPS planners of the same step.
+//!
+//! Stopping must mean that no reachable frontier is left, not that this round's
+//! centroids were poor: when no candidate expects at least `min_gain_cells` new
+//! cells, the planner searches the reachable part of the band itself (one cell per
+//! square metre, nearest first) for a position that does, and only stops when there
+//! is none.
+
+use std::collections::{HashMap, HashSet};
+
+use rand_chacha::ChaCha8Rng;
+use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
+
+use super::band::band;
+use super::border::{border_cells, significant_border};
+use super::candidate::{candidate_terms, fill_terms, new_candidate, Candidate, CandidateOrigin};
+use super::kmeans::kmeans;
+use super::samples::{band_area, cluster_count, scatter};
+use super::score::{evaluate, Terms};
+use crate::config::Config;
+use crate::geom::{polyline_length, Cell, Point};
+use crate::grid::path::{shortcut_path, to_world};
+use crate::grid::travel::sweep;
+use crate::grid::{DistanceField, OccupancyGrid, Traversability, UNREACHED};
+use crate::sensing::expected_gain;
+
+/// What the planner decided.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case", tag = "kind")]
+pub enum Decision {
+    /// Scan next at candidate `index`.
+    Target {
+        /// Index into [`ParentPlan::candidates`].
+        index: usize,
+    },
+    /// No border is left: the map is fully known.
+    Complete,
+    /// Border remains, but no reachable position would see anything new.
+    NoReachableFrontier,
+}
+
+/// One planning round of the parent.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ParentPlan {
+    /// Border cells found (step 1).
+    pub border_cells: usize,
+    /// Band cells (step 2).
+    pub band_cells: usize,
+    /// Samples scattered in the band (step 2), world frame.
+    #[serde(skip)]
+    pub samples: Vec<Point>,
+    /// Number of samples.
+    pub sample_count: usize,
+    /// k of k-means (step 3).
+    pub clusters: usize,
+    /// Candidates with their Eq. (1) terms (step 4).
+    pub candidates: Vec<Candidate>,
+    /// The decision.
+    pub decision: Decision,
+    /// Drivable path from the parent to the target, world frame (empty if none).
+    pub path: Vec<Point>,
+    /// Length of `path` in metres.
+    pub path_length_m: f64,
+}
+
+impl ParentPlan {
+    /// The chosen candidate, if any.
+    pub fn target(&self) -> Option<&Candidate> {
+        match self.decision {
+            Decision::Target { index } => self.candidates.get(index),
+            _ => None,
+        }
+    }
+}
+
+/// Plans the parent's next scan position on `knowledge` from `parent`.
+pub fn plan_parent(
+    knowledge: &OccupancyGrid,
+    parent: Cell,
+    config: &Config,
+    rng: &mut ChaCha8Rng,
+) -> ParentPlan {
+    plan_parent_with_reach(knowledge, parent, config, rng).0
+}
+
+/// The parent's drivable cells and travel distances that a planning round
+/// computed, for the CPS planners of the same step to reuse.
+#[derive(Debug, Clone)]
+pub struct ParentReach {
+    /// The parent's drivable cells.
+    pub trav: Traversability,
+    /// Travel distances from the parent.
+    pub field: DistanceField,
+}
+
+/// [`plan_parent`], also returning the parent's [`ParentReach`].
+pub fn plan_parent_with_reach(
+    knowledge: &OccupancyGrid,
+    parent: Cell,
+    config: &Config,
+    rng: &mut ChaCha8Rng,
+) -> (ParentPlan, ParentReach) {
+    let g = *knowledge.geometry();
+    let pc = &config.parent;
+    let range_cells = config.range_cells();
+    // Steps 1–3 (border, band, samples, k-means: the only users of `rng`) do not
+    // depend on the drivable cells and travel distances from the parent: both run
+    // at once.
+    let ((trav, field), (border, stages)) = rayon::join(
+        || {
+            let trav = Traversability::new(knowledge, config.robot.radius, parent);
+            let field = sweep(&g, &trav.passable, &[g.index(parent)], UNREACHED);
+            (trav, field)
+        },
+        || {
+            let border = significant_border(&g, &border_cells(knowledge), pc.min_frontier_cells);
+            if border.is_empty() {
+                return (border, None);
+            }
+            let (band_cells, _) = band(knowledge, &border, pc.band_width);
+
+            // Steps 2 and 3: samples scattered in the band, k adapted to its size.
+            let samples = scatter(&g, &band_cells, pc, rng);
+            let k = cluster_count(band_area(&g, band_cells.len()), pc);
+            let clustering = kmeans(&samples, k, pc.kmeans_iterations, rng);
+            (border, Some((band_cells, samples, clustering)))
+        },
+    );
+    let mut plan = ParentPlan {
+        border_cells: border.len(),
+        band_cells: 0,
+        samples: Vec::new(),
+        sample_count: 0,
+        clusters: 0,
+        candidates: Vec::new(),
+        decision: Decision::Complete,
+        path: Vec::new(),
+        path_length_m: 0.0,
+    };
+    let Some((band_cells, samples, clustering)) = stages else {
+        return (plan, ParentReach { trav, field });
+    };
+    plan.band_cells = band_cells.len();
+    plan.clusters = clustering.centroids.len();
+    plan.sample_count = samples.len();
+    let to_point = |p: [f64; 2]| g.grid_to_world(p[0] * g.resolution, p[1] * g.resolution);
+    plan.samples = samples.iter().map(|&p| to_point(p)).collect();
+
+    // Step 4: centroids as candidates, snapped to a valid member sample if needed.
+    let valid = |i: usize| trav.traversable[i] && field.reached(i);
+    let cell_of = |p: [f64; 2]| Cell::new(p[0] as usize, p[1] as usize);
+    let mut members: Vec<Vec<usize>> = vec![Vec::new(); clustering.centroids.len()];
+    for (s, &a) in clustering.assignment.iter().enumerate() {
+        members[a].push(s);
+    }
+    let mut seen_cells = HashSet::new();
+    for (ci, &centroid) in clustering.centroids.iter().enumerate() {
+        let mut cell = cell_of(centroid);
+        let mut origin = CandidateOrigin::Centroid;
+        if !valid(g.index(cell)) {
+            let snapped = members[ci]
+                .iter()
+                .map(|&s| samples[s])
+                .filter(|&p| valid(g.index(cell_of(p))))
+                .min_by(|a, b| {
+                    let da = (a[0] - centroid[0]).powi(2) + (a[1] - centroid[1]).powi(2);
+                    let db = (b[0] - centroid[0]).powi(2) + (b[1] - centroid[1]).powi(2);
+                    da.total_cmp(&db)
+                });
+            if let Some(p) = snapped {
+                cell = cell_of(p);
+                origin = CandidateOrigin::Snapped;
+            }
+        }
+        if !seen_cells.insert(cell) {
+            continue;
+        }
+        plan.candidates.push(new_candidate(
+            cell,
+            to_point(centroid),
+            origin,
+            members[ci].len(),
+            &g,
+        ));
+    }
+    // Terms of Eq. (1), S in parallel.
+    let terms = |c: &Candidate| candidate_terms(c, &g, &trav, &field, config);
+    let gains: Vec<usize> = plan
+        .candidates
+        .par_iter()
+        .map(|c| {
+            if valid(g.index(c.cell)) {
+                expected_gain(knowledge, c.cell, range_cells, usize::MAX)
+            } else {
+                0
+            }
+        })
+        .collect();
+    for (c, s) in plan.candidates.iter_mut().zip(gains) {
+        c.s_cells = s;
+        let t = terms(c);
+        fill_terms(c, t);
+    }
+    if !plan
+        .candidates
+        .iter()
+        .any(|c| c.r == 1 && c.s_cells >= pc.min_gain_cells)
+    {
+        if let Some(cell) = search_reachable_frontier(knowledge, &band_cells, &trav, &field, config)
+        {
+            let mut c = new_candidate(cell, g.cell_center(cell), CandidateOrigin::Fallback, 0, &g);
+            c.s_cells = expected_gain(knowledge, cell, range_cells, usize::MAX);
+            let t = terms(&c);
+            fill_terms(&mut c, t);
+            plan.candidates.push(c);
+        }
+    }
+    // Eq. (1).
+    let all_terms: Vec<Terms> = plan.candidates.iter().map(terms).collect();
+    let scores = evaluate(&all_terms, pc.alpha, pc.beta, pc.scoring, g.resolution);
+    let mut best: Option<(usize, f64)> = None;
+    for (i, (c, gv)) in plan.candidates.iter_mut().zip(scores).enumerate() {
+        c.g = gv;
+        c.eligible = c.r == 1 && c.s_cells >= pc.min_gain_cells;
+        if c.eligible && best.is_none_or(|(_, b)| gv > b) {
+            best = Some((i, gv));
+        }
+    }
+    match best {
+        None => plan.decision = Decision::NoReachableFrontier,
+        Some((index, _)) => {
+            plan.decision = Decision::Target { index };
+            let target = plan.candidates[index].cell;
+            if let Some(cells) = shortcut_path(&g, &field, &trav.passable, target) {
+                plan.path = to_world(&g, &cells);
+                plan.path_length_m = polyline_length(&plan.path);
+            }
+        }
+    }
+    (plan, ParentReach { trav, field })
+}
+
+/// The reachable-frontier search: reachable, traversable band cells, one per square
+/// metre (the nearest by travel), tried nearest first; the first that expects at
+/// least `min_gain_cells` new cells.
+fn search_reachable_frontier(
+    knowledge: &OccupancyGrid,
+    band_cells: &[usize],
+    trav: &Traversability,
+    field: &DistanceField,
+    config: &Config,
+) -> Option<Cell> {
+    let g = knowledge.geometry();
+    let block = (1.0 / g.resolution).round().max(1.0) as usize;
+    let mut best: HashMap<(usize, usize), usize> = HashMap::new();
+    for &i in band_cells {
+        if !(trav.traversable[i] && field.reached(i)) {
+            continue;
+        }
+        let c = g.cell(i);
+        let key = (c.x / block, c.y / block);
+        let e = best.entry(key).or_insert(i);
+        if (field.cost[i], i) < (field.cost[*e], *e) {
+            *e = i;
+        }
+    }
+    let mut order: Vec<usize> = best.into_values().collect();
+    order.sort_unstable_by_key(|&i| (field.cost[i], i));
+    let need = config.parent.min_gain_cells;
+    order
+        .into_iter()
+        .find(|&i| expected_gain(knowledge, g.cell(i), config.range_cells(), need) >= need)
+        .map(|i| g.cell(i))
+}

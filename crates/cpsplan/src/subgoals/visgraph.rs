@@ -1,0 +1,596 @@
+//! Visibility Graph on the known grid map and shortest paths through it, for the
+//! subgoal retrieval of section IV-C: the subgoals are the vertices of the
+//! shortest path, and consecutive subgoals see each other along a drivable
+//! straight leg.
+//!
+//! # Method
+//!
+//! The graph is built in the robot's configuration space: the *obstacles* are the
+//! cells that are not [`Traversability::traversable`] (Occupied, Unknown, the grid
+//! edge and everything closer than the robot radius to them), so no further
+//! inflation is needed. `N` cells, `P` outline corners, `V` vertices, `E` edges,
+//! legs of up to `L` cells.
+//!
+//! 1.–3. **Vertices**: the convex corners of the outlines of the non-drivable
+//!    region, simplified and pushed half a cell into free space
+//!    ([`super::corners`]).
+//! 4. **Edges** (`O(V·L)` per vertex, when first needed). Every pair of vertices
+//!    whose straight leg (the supercover of the segment between the cell centres)
+//!    consists of traversable cells is an edge, weighted by its Euclidean length in
+//!    **metres** (cell centre distance × resolution). A vertex's edges are found
+//!    when a search expands it ([`VisibilityGraph::neighbours`], in parallel over
+//!    the other vertices, sorted by vertex, so nothing depends on the thread
+//!    count). Testing all `V²` pairs up front took seconds per step on a
+//!    275 m × 220 m campus map with thousands of vertices; a query expands only
+//!    the vertices A* reaches inside its ellipse (below).
+//! 5. **Queries** (`O(V·L + (V + E) log V)` at worst). [`VisibilityGraph::shortest_path`]
+//!    returns the straight leg if `from` sees `to`; otherwise it links `from` and
+//!    `to` to every vertex they see and runs A* (straight-line distance to the
+//!    goal as the bound; binary heap, `f64` metres, ties broken by node index) over
+//!    the graph plus these two nodes, in rounds restricted to the vertices inside
+//!    an ellipse with foci `from` and `to` that doubles until the path found fits
+//!    in it (then it is the shortest over the whole graph). Query legs are checked over
+//!    [`Traversability::passable`] (a superset of `traversable`), so a robot in its
+//!    escape region can still leave.
+//! 6. **Fallback.** An endpoint inside a dent that the simplification smoothed
+//!    away may see no vertex. The convex corners of the *unsimplified* outlines
+//!    are kept as [`VisibilityGraph::detail`]; if the first search finds no path,
+//!    it is repeated with the [`DETAIL_LINKS`] detail corners nearest to each
+//!    endpoint as extra nodes, linked to every vertex and to each other
+//!    (`O(K·V·L)` more for `K` extra nodes).
+//!
+//! # Properties and limits
+//!
+//! Every leg of a returned path is clear over `passable`, and its vertices are
+//! drivable. The vertices sit half a cell off the obstacle corners, so paths are
+//! near-shortest rather than exact: in the random-map property test (20 000 cases
+//! run once, 128 kept) they were never longer than the 8-connected grid path
+//! ([`crate::grid::travel::sweep`]) plus one cell plus two cells per bend,
+//! and a path was always found when the grid path existed (goal and start
+//! traversable). Not guaranteed in general:
+//!
+//! - A start inside its escape region (passable but not traversable) may need a
+//!   bend at a *reflex* corner of the traversable region, which has no vertex;
+//!   the path found is then longer than needed (or, in principle, missing).
+//! - The fallback is heuristic (nearest detail corners only).
+//!
+//! On the built-in office map (800 × 600 cells of 0.1 m, full knowledge, robot
+//! radius 0.25 m, 2 cores, release): 480 vertices, 5 143 edges, built in about
+//! 10–15 ms; a query takes 0.2–0.3 ms. Tunnel map: 950 vertices, 41 719 edges,
+//! about 30 ms (its curved walls keep many corners); site map: 82 vertices.
+
+use std::cmp::Ordering;
+use std::collections::BinaryHeap;
+
+use rayon::prelude::*;
+
+use super::corners::{cell_distance, corners};
+use crate::geom::Cell;
+use crate::grid::line::segment_clear;
+use crate::grid::{GridGeometry, OccupancyGrid, Traversability};
+
+/// How many of the nearest detail corners an endpoint is linked to in the
+/// fallback search of [`VisibilityGraph::shortest_path`].
+pub const DETAIL_LINKS: usize = 16;
+
+/// A Visibility Graph over the convex corners of the non-drivable region. Its
+/// edges are found when a search first needs them ([`Self::neighbours`]).
+#[derive(Debug, Clone)]
+pub struct VisibilityGraph {
+    /// The graph's vertices: drivable cells near the convex obstacle corners.
+    pub vertices: Vec<Cell>,
+    /// The drivable cells at the convex corners of the *unsimplified* outlines
+    /// (sorted, none of them a vertex): the fallback of
+    /// [`VisibilityGraph::shortest_path`] for endpoints in pockets that the
+    /// simplification smoothed away.
+    pub detail: Vec<Cell>,
+    /// The drivable cells the graph was built on.
+    drivable: Vec<bool>,
+    geometry: GridGeometry,
+}
+
+impl PartialEq for VisibilityGraph {
+    /// Graphs are equal when built from the same cells (edges follow from them).
+    fn eq(&self, other: &Self) -> bool {
+        self.vertices == other.vertices
+            && self.detail == other.detail
+            && self.geometry == other.geometry
+            && self.drivable == other.drivable
+    }
+}
+
+impl VisibilityGraph {
+    /// Builds the graph on `knowledge` with the drivable cells of `trav`.
+    pub fn build(knowledge: &OccupancyGrid, trav: &Traversability) -> VisibilityGraph {
+        let g = *knowledge.geometry();
+        let drivable = &trav.traversable;
+        let (vertices, mut detail) = corners(&g, drivable);
+        let mut sorted = vertices.clone();
+        sorted.sort_unstable();
+        detail.sort_unstable();
+        detail.dedup();
+        detail.retain(|c| sorted.binary_search(c).is_err());
+        VisibilityGraph {
+            vertices,
+            detail,
+            drivable: drivable.clone(),
+            geometry: g,
+        }
+    }
+
+    /// The neighbours of vertex `v`: `(other vertex, leg length in metres)` for
+    /// every vertex whose straight leg from `v` is drivable, sorted by the other
+    /// vertex (`O(V·L)`, in parallel).
+    pub fn neighbours(&self, v: usize) -> Vec<(usize, f64)> {
+        let all: Vec<usize> = (0..self.vertices.len()).collect();
+        self.neighbours_among(v, &all)
+    }
+
+    /// [`Self::neighbours`] among the vertices `among` (ascending).
+    fn neighbours_among(&self, v: usize, among: &[usize]) -> Vec<(usize, f64)> {
+        let g = &self.geometry;
+        let a = self.vertices[v];
+        let drivable = &self.drivable;
+        among
+            .par_iter()
+            .filter(|&&j| j != v)
+            .filter_map(|&j| {
+                let b = self.vertices[j];
+                segment_clear(g, a, b, |k| drivable[k])
+                    .then(|| (j, cell_distance(a, b) * g.resolution))
+            })
+            .collect()
+    }
+
+    /// Number of (undirected) edges (computes every vertex's neighbours).
+    pub fn edge_count(&self) -> usize {
+        (0..self.vertices.len())
+            .map(|v| self.neighbours(v).len())
+            .sum::<usize>()
+            / 2
+    }
+
+    /// The shortest path from `from` to `to` through the graph: its cells, `from`
+    /// first and `to` last, each leg a straight segment over `trav.passable`
+    /// cells. `None` when either cell is off the grid or not passable, or no path
+    /// is found.
+    ///
+    /// If `from` sees `to` the path is the straight leg. Otherwise both are linked
+    /// to every vertex they see and Dijkstra runs over the graph; if that finds no
+    /// path, the search is repeated with up to [`DETAIL_LINKS`] of the nearest
+    /// [`detail`](Self::detail) corners to each endpoint (seen or not) as extra
+    /// nodes, linked to the vertices and to each other, which gets endpoints out
+    /// of shallow pockets of the outline that the simplification removed.
+    pub fn shortest_path(
+        &self,
+        geometry: &GridGeometry,
+        trav: &Traversability,
+        from: Cell,
+        to: Cell,
+    ) -> Option<Vec<Cell>> {
+        let g = geometry;
+        if from.x >= g.width || from.y >= g.height || to.x >= g.width || to.y >= g.height {
+            return None;
+        }
+        let ok = |k: usize| trav.passable[k];
+        if !ok(g.index(from)) || !ok(g.index(to)) {
+            return None;
+        }
+        if from == to {
+            return Some(vec![from]);
+        }
+        if segment_clear(g, from, to, ok) {
+            return Some(vec![from, to]);
+        }
+        self.search(g, &ok, vec![from, to]).or_else(|| {
+            let mut overlay = vec![from, to];
+            for end in [from, to] {
+                let mut near: Vec<(f64, Cell)> = self
+                    .detail
+                    .iter()
+                    .map(|&d| (cell_distance(end, d), d))
+                    .collect();
+                near.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+                overlay.extend(near.into_iter().take(DETAIL_LINKS).map(|(_, d)| d));
+            }
+            overlay[2..].sort_unstable();
+            overlay.dedup();
+            if overlay.len() == 2 {
+                return None;
+            }
+            self.search(g, &ok, overlay)
+        })
+    }
+
+    /// The shortest path from `overlay[0]` to `overlay[1]` over the graph plus the
+    /// `overlay` cells as extra nodes, linked to every vertex and overlay cell they
+    /// see.
+    ///
+    /// Bounded rounds: only the vertices `v` with `|v − from| + |v − to| ≤ s` take
+    /// part (an ellipse with foci at the two ends), starting with `s` = 1.2 times
+    /// the straight distance plus 10 m and doubling. Every vertex of a path no
+    /// longer than `s` lies in that ellipse, so a path found no longer than `s` is
+    /// the shortest over the whole graph; the last round takes every vertex.
+    fn search(
+        &self,
+        g: &GridGeometry,
+        ok: &(impl Fn(usize) -> bool + Sync),
+        overlay: Vec<Cell>,
+    ) -> Option<Vec<Cell>> {
+        let n = self.vertices.len();
+        let res = g.resolution;
+        let (from, to) = (overlay[0], overlay[1]);
+        let sum = |c: Cell| (cell_distance(c, from) + cell_distance(c, to)) * res;
+        let mut bound = 1.2 * sum(from) + 10.0;
+        loop {
+            let among: Vec<usize> = (0..n).filter(|&v| sum(self.vertices[v]) <= bound).collect();
+            let last = among.len() == n;
+            match self.search_among(g, ok, &overlay, &among) {
+                Some((path, length)) if last || length <= bound => return Some(path),
+                None if last => return None,
+                _ => bound *= 2.0,
+            }
+        }
+    }
+
+    /// A* from `overlay[0]` to `overlay[1]` over the vertices `among` and the
+    /// overlay cells: the path's cells and its length in metres.
+    fn search_among(
+        &self,
+        g: &GridGeometry,
+        ok: &(impl Fn(usize) -> bool + Sync),
+        overlay: &[Cell],
+        among: &[usize],
+    ) -> Option<(Vec<Cell>, f64)> {
+        let n = self.vertices.len();
+        let res = g.resolution;
+        let cell_of = |node: usize| {
+            if node < n {
+                self.vertices[node]
+            } else {
+                overlay[node - n]
+            }
+        };
+        let all = n + overlay.len();
+        // Links of each overlay node to the vertices and to the later overlay nodes.
+        let links: Vec<Vec<(usize, f64)>> = overlay
+            .par_iter()
+            .enumerate()
+            .map(|(o, &c)| {
+                among
+                    .iter()
+                    .copied()
+                    .chain(n + o + 1..all)
+                    .filter_map(|node| {
+                        let v = cell_of(node);
+                        segment_clear(g, c, v, ok).then(|| (node, cell_distance(c, v) * res))
+                    })
+                    .collect()
+            })
+            .collect();
+        if links[0].is_empty() {
+            return None;
+        }
+        let mut extra: Vec<Vec<(usize, f64)>> = vec![Vec::new(); all];
+        for (o, list) in links.into_iter().enumerate() {
+            for &(node, d) in &list {
+                extra[node].push((n + o, d));
+            }
+            extra[n + o].extend(list);
+        }
+        let (src, dst) = (n, n + 1);
+        // A*: the straight-line distance to the goal is a consistent bound.
+        let goal = cell_of(dst);
+        let h = |node: usize| cell_distance(cell_of(node), goal) * res;
+        let mut dist = vec![f64::INFINITY; all];
+        let mut prev = vec![usize::MAX; all];
+        let mut done = vec![false; all];
+        let mut heap = BinaryHeap::new();
+        dist[src] = 0.0;
+        heap.push(State {
+            cost: h(src),
+            node: src,
+        });
+        while let Some(State { node, .. }) = heap.pop() {
+            if done[node] {
+                continue;
+            }
+            done[node] = true;
+            if node == dst {
+                break;
+            }
+            let base = if node < n {
+                self.neighbours_among(node, among)
+            } else {
+                Vec::new()
+            };
+            for &(next, d) in base.iter().chain(&extra[node]) {
+                let c = dist[node] + d;
+                if c < dist[next] {
+                    dist[next] = c;
+                    prev[next] = node;
+                    heap.push(State {
+                        cost: c + h(next),
+                        node: next,
+                    });
+                }
+            }
+        }
+        if !dist[dst].is_finite() {
+            return None;
+        }
+        let mut path = vec![cell_of(dst)];
+        let mut node = dst;
+        while node != src {
+            node = prev[node];
+            path.push(cell_of(node));
+        }
+        path.reverse();
+        Some((path, dist[dst]))
+    }
+}
+
+/// Length of a path of cells, metres.
+pub fn path_length(geometry: &GridGeometry, path: &[Cell]) -> f64 {
+    path.windows(2)
+        .map(|w| cell_distance(w[0], w[1]))
+        .sum::<f64>()
+        * geometry.resolution
+}
+
+/// A Dijkstra queue entry: smallest cost first, ties by node.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct State {
+    cost: f64,
+    node: usize,
+}
+
+impl Eq for State {}
+
+impl Ord for State {
+    fn cmp(&self, other: &Self) -> Ordering {
+        other
+            .cost
+            .total_cmp(&self.cost)
+            .then_with(|| other.node.cmp(&self.node))
+    }
+}
+
+impl PartialOrd for State {
+    fn partial_cmp(&self, other: &Self) -> Option<Ordering> {
+        Some(self.cmp(other))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geom::Point;
+    use crate::grid::travel;
+    use crate::grid::CellState;
+    use proptest::prelude::*;
+
+    const RES: f64 = 0.1;
+    const RADIUS: f64 = 0.15;
+
+    fn open(w: usize, h: usize) -> OccupancyGrid {
+        OccupancyGrid::filled(
+            GridGeometry::new(w, h, RES, Point::default()),
+            CellState::Free,
+        )
+    }
+
+    fn setup(map: &OccupancyGrid, robot: Cell) -> (Traversability, VisibilityGraph) {
+        let trav = Traversability::new(map, RADIUS, robot);
+        let graph = VisibilityGraph::build(map, &trav);
+        (trav, graph)
+    }
+
+    fn grid_metres(map: &OccupancyGrid, trav: &Traversability, a: Cell, b: Cell) -> Option<f64> {
+        let g = map.geometry();
+        let field = travel::sweep(g, &trav.passable, &[g.index(a)], travel::UNREACHED - 1);
+        field.metres(g.index(b))
+    }
+
+    fn check_legs(map: &OccupancyGrid, trav: &Traversability, path: &[Cell], a: Cell, b: Cell) {
+        let g = map.geometry();
+        assert_eq!(path.first(), Some(&a));
+        assert_eq!(path.last(), Some(&b));
+        for w in path.windows(2) {
+            assert!(
+                segment_clear(g, w[0], w[1], |k| trav.passable[k]),
+                "leg {:?} -> {:?} blocked in {path:?}",
+                w[0],
+                w[1]
+            );
+        }
+    }
+
+    fn straight(g: &GridGeometry, a: Cell, b: Cell) -> f64 {
+        g.cell_center(a).distance(g.cell_center(b))
+    }
+
+    #[test]
+    fn open_space_is_one_straight_leg() {
+        let map = open(60, 40);
+        let (a, b) = (Cell::new(5, 5), Cell::new(50, 33));
+        let (trav, graph) = setup(&map, a);
+        let path = graph
+            .shortest_path(map.geometry(), &trav, a, b)
+            .unwrap_or_default();
+        assert_eq!(path, vec![a, b]);
+        assert_eq!(
+            graph.shortest_path(map.geometry(), &trav, a, a),
+            Some(vec![a])
+        );
+    }
+
+    #[test]
+    fn around_one_square_obstacle() {
+        let mut map = open(60, 60);
+        map.fill_rect(25, 25, 34, 34, CellState::Occupied);
+        let g = *map.geometry();
+        for (a, b) in [
+            (Cell::new(10, 30), Cell::new(50, 30)),
+            (Cell::new(30, 10), Cell::new(30, 50)),
+            (Cell::new(12, 20), Cell::new(48, 40)),
+            (Cell::new(15, 15), Cell::new(45, 45)),
+        ] {
+            let (trav, graph) = setup(&map, a);
+            let path = graph.shortest_path(&g, &trav, a, b).unwrap();
+            check_legs(&map, &trav, &path, a, b);
+            let inner = &path[1..path.len() - 1];
+            assert!((1..=2).contains(&inner.len()), "{path:?}");
+            for c in inner {
+                // Near a corner of the obstacle (cells 25..34, lattice corners 25 and 34).
+                let near = |v: usize| v.abs_diff(25).min(v.abs_diff(35)) <= 5;
+                assert!(
+                    near(c.x) && near(c.y),
+                    "{c:?} not near a corner in {path:?}"
+                );
+            }
+            let len = path_length(&g, &path);
+            let grid = grid_metres(&map, &trav, a, b).unwrap();
+            assert!(len <= grid + 2.0 * RES, "{len} vs grid {grid}");
+            assert!(len >= straight(&g, a, b) - 1e-9);
+        }
+    }
+
+    #[test]
+    fn unreachable_goal_gives_none() {
+        let mut map = open(60, 40);
+        map.fill_rect(30, 0, 31, 39, CellState::Occupied);
+        let (a, b) = (Cell::new(10, 20), Cell::new(50, 20));
+        let (trav, graph) = setup(&map, a);
+        assert_eq!(graph.shortest_path(map.geometry(), &trav, a, b), None);
+        // Off-grid and blocked goals too.
+        assert_eq!(
+            graph.shortest_path(map.geometry(), &trav, a, Cell::new(60, 0)),
+            None
+        );
+        assert_eq!(
+            graph.shortest_path(map.geometry(), &trav, a, Cell::new(30, 20)),
+            None
+        );
+    }
+
+    #[test]
+    fn vertices_are_drivable_and_graph_is_symmetric() {
+        let mut map = open(80, 60);
+        map.fill_rect(20, 10, 30, 40, CellState::Occupied);
+        map.fill_rect(45, 25, 60, 30, CellState::Occupied);
+        map.fill_rect(0, 50, 40, 59, CellState::Unknown);
+        let (trav, graph) = setup(&map, Cell::new(5, 5));
+        assert!(!graph.vertices.is_empty());
+        let g = map.geometry();
+        for &v in &graph.vertices {
+            assert!(trav.traversable[g.index(v)], "{v:?}");
+        }
+        for i in 0..graph.vertices.len() {
+            for (j, d) in graph.neighbours(i) {
+                assert!(graph.neighbours(j).iter().any(|&(k, e)| k == i && e == d));
+                assert!(segment_clear(
+                    g,
+                    graph.vertices[i],
+                    graph.vertices[j],
+                    |k| { trav.traversable[k] }
+                ));
+            }
+        }
+    }
+
+    #[test]
+    fn build_is_deterministic() {
+        let mut map = open(80, 60);
+        map.fill_rect(20, 10, 30, 40, CellState::Occupied);
+        map.fill_rect(45, 25, 60, 30, CellState::Occupied);
+        let (_, first) = setup(&map, Cell::new(5, 5));
+        for _ in 0..3 {
+            assert_eq!(setup(&map, Cell::new(5, 5)).1, first);
+        }
+    }
+
+    #[test]
+    fn goal_in_a_smoothed_pocket_is_found_by_the_fallback() {
+        // The goal sits in a one-cell dent of the outline that the simplification
+        // removes, so it sees no vertex; the detail corners get it out.
+        let mut map = open(60, 45);
+        for (x, y, w, h) in [(50, 21, 4, 4), (49, 23, 4, 8), (51, 32, 3, 1)] {
+            map.fill_rect(x, y, x + w, y + h, CellState::Occupied);
+        }
+        let (a, b) = (Cell::new(1, 1), Cell::new(54, 27));
+        let (trav, graph) = setup(&map, a);
+        let g = map.geometry();
+        assert!(!graph
+            .vertices
+            .iter()
+            .any(|&v| segment_clear(g, b, v, |k| trav.passable[k])));
+        let path = graph.shortest_path(g, &trav, a, b).unwrap();
+        check_legs(&map, &trav, &path, a, b);
+        let grid = grid_metres(&map, &trav, a, b).unwrap();
+        assert!(path_length(g, &path) <= grid + 1.0 * RES * path.len() as f64);
+    }
+
+    /// A random map: rectangles of Occupied (and some Unknown) cells on a Free
+    /// grid.
+    fn rect_map(w: usize, h: usize, rects: &[(usize, usize, usize, usize, bool)]) -> OccupancyGrid {
+        let mut map = open(w, h);
+        for &(x, y, rw, rh, unknown) in rects {
+            let (x1, y1) = (x + rw, y + rh); // exclusive, clamped by fill_rect
+            let s = if unknown {
+                CellState::Unknown
+            } else {
+                CellState::Occupied
+            };
+            map.fill_rect(x, y, x1, y1, s);
+        }
+        map
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(128))]
+        #[test]
+        fn random_rectangle_maps(
+            rects in prop::collection::vec(
+                (0usize..60, 0usize..45, 1usize..15, 1usize..15, prop::bool::weighted(0.2)),
+                0..8,
+            ),
+            ends in prop::collection::vec((0usize..60, 0usize..45), 6),
+        ) {
+            let map = rect_map(60, 45, &rects);
+            let g = *map.geometry();
+            let (a, rest) = (Cell::new(ends[0].0, ends[0].1), &ends[1..]);
+            let (trav, graph) = setup(&map, a);
+            // Starts in the escape region may need a bend at a reflex corner of the
+            // traversable region, which the graph has no vertex for (module doc).
+            if !trav.traversable[g.index(a)] {
+                return Ok(());
+            }
+            for &v in &graph.vertices {
+                prop_assert!(trav.traversable[g.index(v)]);
+            }
+            prop_assert_eq!(&VisibilityGraph::build(&map, &trav), &graph);
+            for &(x, y) in rest {
+                let b = Cell::new(x, y);
+                let grid = grid_metres(&map, &trav, a, b).filter(|_| trav.traversable[g.index(b)]);
+                let path = graph.shortest_path(&g, &trav, a, b);
+                match (&path, grid) {
+                    (Some(path), Some(grid)) => {
+                        check_legs(&map, &trav, path, a, b);
+                        let len = path_length(&g, path);
+                        prop_assert!(len >= straight(&g, a, b) - 1e-9);
+                        // A cell or two of detour per bend at most.
+                        let bends = path.len().saturating_sub(2) as f64;
+                        prop_assert!(
+                            len <= grid + (1.0 + 2.0 * bends) * RES,
+                            "{} vs grid {} for {:?}", len, grid, path
+                        );
+                    }
+                    (Some(path), None) => prop_assert!(false, "path {:?} but grid unreachable", path),
+                    (None, Some(grid)) => prop_assert!(false, "no path, grid {}", grid),
+                    (None, None) => {}
+                }
+            }
+        }
+    }
+}
