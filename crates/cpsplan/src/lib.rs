@@ -4,27 +4,29 @@
 //! Kurazume et al., IROS 2015). The modules follow the paper's pipeline (Fig. 3)
 //! in the order data flows, each resting only on the ones listed before it:
 //!
-//! 1. [`geom`], [`config`]: points and cells; every parameter of a run.
-//! 2. [`grid`]: the occupancy grid and the grid algorithms every stage stands on
-//!    (distance transforms, travel-distance sweeps, searches, straight legs,
-//!    connected regions, drivable terrain).
-//! 3. [`world`]: maps, built-in maps, resampling to the planning resolution,
-//!    coverage, start ("transform 3D model to 2D grid map").
-//! 4. [`sensing`]: the omni-directional scanner, expected gain `S`, certain
-//!    visibility for CPS links.
-//! 5. [`parent`] (section IV-A): border, band, samples, k-means, Eq. (1), the
-//!    parent's target ("calculate candidate positions of parent robot", "determine
-//!    the optimum position of parent robot").
-//! 6. [`children`] (IV-B): AND region, Eq. (2), one CPS cycle ("calculate
-//!    candidate positions of child robots", "determine the optimum positions").
-//! 7. [`subgoals`] (IV-C): the Visibility Graph and subgoal retrieval ("set
-//!    subgoals for the parent robot using Visibility Graph").
-//! 8. [`motion`] (IV-D): the Generalized Voronoi Diagram and every robot's path
-//!    ("plan the trajectories to the target positions").
-//! 9. [`mission`]: the scan → plan → move loop, its records, and
-//!    [`mission::plan_step`], one step for a real team ("move to the target
-//!    positions").
+//! - [`geom`], [`config`]: points and cells; every parameter of a run.
+//! - [`grid`]: the occupancy grid and the grid algorithms every stage stands on
+//!   (distance transforms, travel-distance sweeps, searches, straight legs,
+//!   connected regions, drivable terrain).
+//! - [`world`] (stage 1): maps, built-in maps, resampling to the planning
+//!   resolution, coverage, start ("transform 3D model to 2D grid map").
+//! - [`sensing`] (stage 2): the omni-directional scanner, the expected gain `S`,
+//!   certain visibility for CPS links.
+//! - [`parent`] (stage 3, section IV-A): border, band, samples, k-means, Eq. (1),
+//!   the parent's target ("calculate candidate positions of parent robot",
+//!   "determine the optimum position of parent robot").
+//! - [`children`] (stage 4, IV-B): AND region, Eq. (2), one CPS cycle ("calculate
+//!   candidate positions of child robots", "determine the optimum positions").
+//! - [`subgoals`] (stage 5, IV-C): the Visibility Graph and subgoal retrieval ("set
+//!   subgoals for the parent robot using Visibility Graph").
+//! - [`motion`] (stage 6, IV-D): the Generalized Voronoi Diagram and every robot's
+//!   path ("plan the trajectories to the target positions").
+//! - [`mission`] (stage 8): the scan → plan → move loop, its records, and
+//!   [`mission::plan_step`], one step for a real team ("move to the target
+//!   positions").
 //!
+//! Stage numbers are those of the design notes (DESIGN.md); stage 7, the CPS
+//! measurement chain and its error, goes between [`motion`] and [`mission`].
 //! No module imports from a stage listed after it.
 //!
 //! # Example

@@ -5,7 +5,10 @@
 //! In: the knowledge map, the parent's position and radius, the cycle parameters.
 //! Out: a [`StepMaps`] holding
 //! - the parent's [`Terrain`] (drivable cells, the region it can reach) and the
-//!   children's (the same one when parent and children have the same radius);
+//!   children's: their drivable cells without the parent's escape region (a
+//!   parent standing in a tight spot may squeeze out of it; the children must not
+//!   drive through it), the parent's own terrain when the radii agree and the
+//!   parent has no escape region;
 //! - the certain views of the parent positions tried so far (a view is two
 //!   visibility sweeps' worth of work, and subgoal retrieval asks for the same
 //!   positions again and again);
@@ -59,15 +62,15 @@ impl<'k> StepMaps<'k> {
             },
             || {
                 (parent_radius != params.child_radius)
-                    .then(|| Terrain::new(knowledge, params.child_radius, parent))
+                    .then(|| Terrain::without_escape(knowledge, params.child_radius))
             },
         );
         Self::assemble(knowledge, parent_terrain, child_terrain, params)
     }
 
     /// The maps from the parent's terrain and, when the children's radius differs
-    /// from the parent's, the children's terrain (both for a robot standing where
-    /// the parent stands).
+    /// from the parent's, the children's terrain
+    /// ([`Terrain::without_escape`]).
     pub fn assemble(
         knowledge: &'k OccupancyGrid,
         parent_terrain: Terrain,
@@ -75,7 +78,13 @@ impl<'k> StepMaps<'k> {
         params: &CycleParams,
     ) -> Self {
         let parent = Arc::new(parent_terrain);
-        let children = child_terrain.map_or_else(|| Arc::clone(&parent), Arc::new);
+        let children = match child_terrain {
+            Some(t) => Arc::new(t),
+            None if parent.trav.has_escape_region() => {
+                Arc::new(Terrain::without_escape(knowledge, params.child_radius))
+            }
+            None => Arc::clone(&parent),
+        };
         Self {
             knowledge,
             params: *params,
@@ -136,5 +145,39 @@ impl<'k> StepMaps<'k> {
     pub fn mutual_view(&self, parent_from: Cell, parent_to: Cell) -> Vec<u32> {
         let (a, b) = (self.view(parent_from), self.view(parent_to));
         seen_by_both(self.knowledge.geometry(), &a, &b)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::children::test_params;
+    use crate::geom::Point;
+    use crate::grid::{CellState, GridGeometry};
+
+    /// A room with the parent squeezed against its west wall: its escape region
+    /// is passable for the parent, and for nobody else.
+    #[test]
+    fn children_do_not_drive_through_the_parents_escape_region() {
+        let g = GridGeometry::new(60, 40, 0.1, Point::default());
+        let mut k = OccupancyGrid::filled(g, CellState::Occupied);
+        k.fill_rect(1, 1, 59, 39, CellState::Free);
+        let params = test_params();
+        let parent = Cell::new(1, 20);
+        let maps = StepMaps::new(&k, parent, params.child_radius, &params);
+        let trav = &maps.parent_terrain().trav;
+        assert!(trav.has_escape_region());
+        let escape: Vec<usize> = (0..g.len())
+            .filter(|&i| trav.passable[i] && !trav.traversable[i])
+            .collect();
+        assert!(escape.len() > 3, "{} escape cells", escape.len());
+        let child = maps.reach(Cell::new(30, 20));
+        for &i in &escape {
+            assert!(!child.reaches(i), "a child reaches {:?}", g.cell(i));
+            assert!(!child.terrain.trav.passable[i]);
+        }
+        // With the parent on a drivable cell, parent and children share one terrain.
+        let maps = StepMaps::new(&k, Cell::new(10, 20), params.child_radius, &params);
+        assert!(Arc::ptr_eq(&maps.parent, &maps.children));
     }
 }

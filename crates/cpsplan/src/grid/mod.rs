@@ -1,5 +1,6 @@
-//! Grid algorithms: the occupancy grid type and the algorithms every stage of the
-//! pipeline stands on (the bottom layer; it imports nothing but [`crate::geom`]).
+//! Grid algorithms (the bottom layer, below pipeline stage 1): the occupancy grid
+//! type and the algorithms every stage stands on; it imports nothing but
+//! [`crate::geom`].
 //!
 //! In: an [`OccupancyGrid`] (ground truth or knowledge map). Out: distances to
 //! obstacles, travel distances and cheapest paths, straight legs and string

@@ -38,6 +38,16 @@ impl Terrain {
         Self { trav, region }
     }
 
+    /// The terrain of robots of `radius` metres with no escape region
+    /// ([`Traversability::without_escape`]): every region of the traversable cells
+    /// labelled.
+    pub fn without_escape(knowledge: &OccupancyGrid, radius: f64) -> Self {
+        let trav = Traversability::without_escape(knowledge, radius);
+        let g = knowledge.geometry();
+        let (region, _) = label4(g.width, g.height, |i| trav.passable[i]);
+        Self { trav, region }
+    }
+
     /// The terrain of `trav` with only the region of a travel sweep over its
     /// passable cells labelled (region 0): no labelling pass when the sweep has
     /// already been run (the parent's planning round runs it).

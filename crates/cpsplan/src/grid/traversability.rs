@@ -42,6 +42,8 @@ pub struct Traversability {
     pub passable: Vec<bool>,
     clearance: OccupiedColumns,
     radius: f64,
+    /// Some cell is passable without being traversable.
+    escape: bool,
 }
 
 /// The known Occupied cells, by column: the rows of the Occupied cells of column
@@ -72,8 +74,19 @@ fn distance_of(d2: u64) -> f32 {
 
 impl Traversability {
     /// Computes clearances for `knowledge` and the drivable cells of a robot of
-    /// `radius` metres standing at `robot`.
+    /// `radius` metres standing at `robot` (its escape region is passable).
     pub fn new(knowledge: &OccupancyGrid, radius: f64, robot: Cell) -> Self {
+        Self::build(knowledge, radius, Some(robot))
+    }
+
+    /// The drivable cells of robots of `radius` metres with no escape region:
+    /// `passable` equals `traversable`. For robots that only pass through the map
+    /// another robot stands on (another robot's escape region is no way for them).
+    pub fn without_escape(knowledge: &OccupancyGrid, radius: f64) -> Self {
+        Self::build(knowledge, radius, None)
+    }
+
+    fn build(knowledge: &OccupancyGrid, radius: f64, robot: Option<Cell>) -> Self {
         let g = *knowledge.geometry();
         let res = g.resolution;
         let k = knowledge.cells();
@@ -99,18 +112,25 @@ impl Traversability {
         let (clearance, traversable) =
             rayon::join(|| OccupiedColumns::new(k, w, res, known), drivable);
         let mut passable = traversable.clone();
-        mark_escape_region(knowledge, robot, radius, &mut passable);
+        let escape = robot.is_some_and(|r| mark_escape_region(knowledge, r, radius, &mut passable));
         Self {
             traversable,
             passable,
             clearance,
             radius,
+            escape,
         }
     }
 
     /// The robot radius, metres, these cells were computed for.
     pub fn radius(&self) -> f64 {
         self.radius
+    }
+
+    /// Whether the robot's escape region holds any cell: some passable cell is
+    /// not traversable.
+    pub fn has_escape_region(&self) -> bool {
+        self.escape
     }
 
     /// Metres from the centre of cell `index` to the nearest known Occupied cell
@@ -453,17 +473,26 @@ fn known_bounds(knowledge: &OccupancyGrid) -> Option<(usize, usize, usize, usize
     b
 }
 
-/// Marks the known-Free cells connected to `robot` within `radius` plus two cells.
-fn mark_escape_region(knowledge: &OccupancyGrid, robot: Cell, radius: f64, passable: &mut [bool]) {
+/// Marks the known-Free cells connected to `robot` within `radius` plus two cells;
+/// whether any cell was marked.
+fn mark_escape_region(
+    knowledge: &OccupancyGrid,
+    robot: Cell,
+    radius: f64,
+    passable: &mut [bool],
+) -> bool {
     let g = knowledge.geometry();
     let reach = radius / g.resolution + 2.0;
     let reach2 = reach * reach;
     let start = g.index(robot);
     // A robot on a traversable cell needs no escape: a region that let it cross a
     // pinch between two traversable regions would be a one-way valve.
-    if passable[start] || knowledge.get(robot) != CellState::Free {
+    if passable[start] {
+        return false;
+    }
+    if knowledge.get(robot) != CellState::Free {
         passable[start] = true;
-        return;
+        return true;
     }
     passable[start] = true;
     let mut stack = vec![robot];
@@ -488,6 +517,7 @@ fn mark_escape_region(knowledge: &OccupancyGrid, robot: Cell, radius: f64, passa
             stack.push(n);
         }
     }
+    true
 }
 
 #[cfg(test)]

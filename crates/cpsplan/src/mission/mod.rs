@@ -1,4 +1,4 @@
-//! The mission (pipeline stage 7, the loop of paper Fig. 3): scan, plan the
+//! The mission (pipeline stage 8, the loop of paper Fig. 3): scan, plan the
 //! parent's next position, move the team there, scan again, until no reachable
 //! frontier remains or the scan limit is reached. Every step is recorded.
 //!

@@ -74,9 +74,9 @@ pub struct MoveRecord {
 
 /// The AND region of every child of a recorded cycle, recomputed on the knowledge
 /// map the cycle was planned on: per child, a mask over the grid's cells (row-major)
-/// of where that child could have stood (section IV-B). The children's terrain is
-/// taken with the parent at `parent_from`, as the planner takes it with the parent
-/// where the step began. For pictures and checks.
+/// of where that child could have stood (section IV-B). The children drive on
+/// their terrain without anyone's escape region, as the planner takes it (a child
+/// off it on a terrain of its own). For pictures and checks.
 pub fn cycle_and_regions(
     knowledge: &OccupancyGrid,
     cycle: &CycleRecord,
@@ -91,7 +91,7 @@ pub fn cycle_and_regions(
         return vec![vec![false; g.len()]; cycle.children.len()];
     };
     let mutual = mutual_view(knowledge, from, to, params.link);
-    let terrain = Arc::new(Terrain::new(knowledge, params.child_radius, from));
+    let terrain = Arc::new(Terrain::without_escape(knowledge, params.child_radius));
     cycle
         .children
         .iter()

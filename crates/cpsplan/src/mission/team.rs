@@ -48,7 +48,7 @@ impl Groundwork {
                     let trav = Traversability::new(knowledge, params.child_radius, parent);
                     (None, gvd(knowledge, &trav))
                 } else {
-                    let t = Terrain::new(knowledge, params.child_radius, parent);
+                    let t = Terrain::without_escape(knowledge, params.child_radius);
                     let d = gvd(knowledge, &t.trav);
                     (Some(t), d)
                 }
