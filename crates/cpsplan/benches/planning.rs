@@ -257,7 +257,7 @@ fn team(c: &mut Criterion) {
         let reach = ChildReach::new(k, child, params.child_radius);
         group.bench_function("and_region", |b| {
             b.iter(|| {
-                let mutual = mutual_view(black_box(k), parent, target, params.link);
+                let mutual = mutual_view(black_box(k), parent, target, params.link, |_| true);
                 and_region(&mutual, &reach)
             })
         });

@@ -125,6 +125,18 @@ pub struct ChildrenConfig {
     /// farther from every obstacle is no safer, and an uncapped clearance (up to
     /// the scanner range) would drown the angle and distance terms.
     pub clearance_cap: f64,
+    /// Least distance, metres, between a parent–child line of sight and every
+    /// cell that is not known to be free, cells taken as full squares (a line
+    /// touching a wall cell's corner is blocked even at 0). 0 by default: the
+    /// wall itself lies somewhere inside its occupied square, so a line clear of
+    /// the square already keeps off the wall; more keeps more margin at the cost
+    /// of smaller AND regions (docs/DESIGN-CHOICES.md).
+    pub sight_clearance: f64,
+    /// How the children's spots are chosen.
+    pub strategy: ChildStrategy,
+    /// Strategy `min-error`: the children's travel, metres, counted against the
+    /// predicted variance of the parent's next position, mm² per metre.
+    pub travel_weight: f64,
 }
 
 impl Default for ChildrenConfig {
@@ -139,8 +151,143 @@ impl Default for ChildrenConfig {
             min_range: 1.3,
             max_range: None,
             clearance_cap: 1.0,
+            sight_clearance: 0.0,
+            strategy: ChildStrategy::Balanced,
+            travel_weight: 0.01,
         }
     }
+}
+
+/// How the children's spots of a cycle are chosen (paper section V-A-2, Fig. 10,
+/// and one strategy beyond it).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum ChildStrategy {
+    /// (a) Random spots in the AND region, valid for CPS.
+    Random,
+    /// (b) Eq. (2) with the configured weights (αc = βc by default).
+    #[default]
+    Balanced,
+    /// (c) Eq. (2) with αc ≫ βc: the angle term decides (βc / 100).
+    Angle,
+    /// (d) Eq. (2) with αc ≪ βc: the distance term decides (αc / 100).
+    Distance,
+    /// (e) The spots, and whether each child stays or moves, that minimise the
+    /// predicted covariance of the parent's next pose (the accuracy model), with
+    /// `children.travel_weight` trading child travel against it.
+    MinError,
+}
+
+impl ChildStrategy {
+    /// Every strategy, in the paper's order.
+    pub const ALL: [ChildStrategy; 5] = [
+        ChildStrategy::Random,
+        ChildStrategy::Balanced,
+        ChildStrategy::Angle,
+        ChildStrategy::Distance,
+        ChildStrategy::MinError,
+    ];
+
+    /// The strategy's name in configs and on the command line.
+    pub fn name(self) -> &'static str {
+        match self {
+            ChildStrategy::Random => "random",
+            ChildStrategy::Balanced => "balanced",
+            ChildStrategy::Angle => "angle",
+            ChildStrategy::Distance => "distance",
+            ChildStrategy::MinError => "min-error",
+        }
+    }
+}
+
+/// The total station (or scanner) that measures the children's markers: one of the
+/// presets of [`crate::accuracy::Instrument`], with any figure overridden.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct InstrumentConfig {
+    /// The preset (the paper's TOPCON GPT-9005A by default, Table I).
+    pub model: InstrumentModel,
+    /// Distance accuracy, constant part, mm (the preset's when absent).
+    pub distance_sigma_mm: Option<f64>,
+    /// Distance accuracy, part proportional to the distance, ppm.
+    pub distance_ppm: Option<f64>,
+    /// Angle accuracy (one direction), arc seconds.
+    pub angle_sigma_arcsec: Option<f64>,
+    /// Shortest measurable distance, m.
+    pub min_range: Option<f64>,
+    /// Longest measurable distance, m.
+    pub max_range: Option<f64>,
+    /// Measure slope distances and zenith angles as well (3D positions; markers and
+    /// instrument at the heights below over flat ground).
+    pub three_d: bool,
+    /// Height of the instrument's axis over the ground, m (3D mode).
+    pub instrument_height: f64,
+    /// Height of the children's markers over the ground, m (3D mode).
+    pub marker_height: f64,
+}
+
+impl Default for InstrumentConfig {
+    fn default() -> Self {
+        Self {
+            model: InstrumentModel::default(),
+            distance_sigma_mm: None,
+            distance_ppm: None,
+            angle_sigma_arcsec: None,
+            min_range: None,
+            max_range: None,
+            three_d: false,
+            instrument_height: 1.0,
+            marker_height: 0.5,
+        }
+    }
+}
+
+/// The instrument presets (figures in [`crate::accuracy::Instrument::preset`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum InstrumentModel {
+    /// TOPCON GPT-9005A, the paper's (Table I).
+    #[default]
+    Gpt9005a,
+    /// Leica Viva TS16, 1″ model.
+    Ts16,
+    /// Leica Nova TS60.
+    Ts60,
+    /// Topcon MS05AXII.
+    Ms05axii,
+    /// FARO Focus S 350 laser scanner (markers measured in its own scans, as in
+    /// CPS-VIII).
+    FocusS350,
+}
+
+impl InstrumentModel {
+    /// Every preset.
+    pub const ALL: [InstrumentModel; 5] = [
+        InstrumentModel::Gpt9005a,
+        InstrumentModel::Ts16,
+        InstrumentModel::Ts60,
+        InstrumentModel::Ms05axii,
+        InstrumentModel::FocusS350,
+    ];
+
+    /// The preset's name in configs and on the command line.
+    pub fn name(self) -> &'static str {
+        match self {
+            InstrumentModel::Gpt9005a => "gpt-9005a",
+            InstrumentModel::Ts16 => "ts16",
+            InstrumentModel::Ts60 => "ts60",
+            InstrumentModel::Ms05axii => "ms05axii",
+            InstrumentModel::FocusS350 => "focus-s350",
+        }
+    }
+}
+
+/// The accuracy model's options.
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct AccuracyConfig {
+    /// Monte Carlo runs through the episode's CPS chain after it ends (0: none).
+    pub monte_carlo_runs: usize,
 }
 
 /// The mission loop.
@@ -175,6 +322,10 @@ pub struct Config {
     pub children: ChildrenConfig,
     /// Mission loop parameters.
     pub mission: MissionConfig,
+    /// The instrument that measures the CPS links.
+    pub instrument: InstrumentConfig,
+    /// The accuracy model's options.
+    pub accuracy: AccuracyConfig,
 }
 
 impl Default for Config {
@@ -187,6 +338,8 @@ impl Default for Config {
             parent: ParentConfig::default(),
             children: ChildrenConfig::default(),
             mission: MissionConfig::default(),
+            instrument: InstrumentConfig::default(),
+            accuracy: AccuracyConfig::default(),
         }
     }
 }
@@ -260,6 +413,24 @@ impl Config {
         non_negative("children.d_t", self.children.d_t)?;
         non_negative("children.min_range", self.children.min_range)?;
         positive("children.clearance_cap", self.children.clearance_cap)?;
+        non_negative("children.sight_clearance", self.children.sight_clearance)?;
+        non_negative("children.travel_weight", self.children.travel_weight)?;
+        let i = &self.instrument;
+        for (field, v) in [
+            ("instrument.distance_sigma_mm", i.distance_sigma_mm),
+            ("instrument.distance_ppm", i.distance_ppm),
+            ("instrument.angle_sigma_arcsec", i.angle_sigma_arcsec),
+            ("instrument.min_range", i.min_range),
+        ] {
+            if let Some(v) = v {
+                non_negative(field, v)?;
+            }
+        }
+        if let Some(m) = i.max_range {
+            positive("instrument.max_range", m)?;
+        }
+        non_negative("instrument.instrument_height", i.instrument_height)?;
+        non_negative("instrument.marker_height", i.marker_height)?;
         if let Some(m) = self.children.max_range {
             positive("children.max_range", m)?;
         }

@@ -12,6 +12,9 @@
 //!   resolution, coverage, start ("transform 3D model to 2D grid map").
 //! - [`sensing`] (stage 2): the omni-directional scanner, the expected gain `S`,
 //!   certain visibility for CPS links.
+//! - [`accuracy`] (stage 7 of the design notes): the CPS measurement chain, the
+//!   instrument, first-order error propagation, batch adjustment, Monte Carlo;
+//!   below the planners, which ask it what a placement costs.
 //! - [`parent`] (stage 3, section IV-A): border, band, samples, k-means, Eq. (1),
 //!   the parent's target ("calculate candidate positions of parent robot",
 //!   "determine the optimum position of parent robot").
@@ -25,8 +28,9 @@
 //!   [`mission::plan_step`], one step for a real team ("move to the target
 //!   positions").
 //!
-//! Stage numbers are those of the design notes (DESIGN.md); stage 7, the CPS
-//! measurement chain and its error, goes between [`motion`] and [`mission`].
+//! Stage numbers are those of the design notes (DESIGN.md). The CPS measurement
+//! chain (stage 7) sits below the planners in the import order because the
+//! children's placement and the parent's score consult it.
 //! No module imports from a stage listed after it.
 //!
 //! # Example
@@ -45,16 +49,37 @@
 //! # Ok::<(), cpsplan::MissionError>(())
 //! ```
 
-pub mod children;
-pub mod config;
+// The modules in the order data flows (each group kept in order by a comment).
 pub mod geom;
+
+pub mod config;
+
+// Stage 0: the grid and its algorithms.
 pub mod grid;
-pub mod mission;
-pub mod motion;
-pub mod parent;
-pub mod sensing;
-pub mod subgoals;
+
+// Stage 1.
 pub mod world;
+
+// Stage 2.
+pub mod sensing;
+
+// Stage 7, consulted by the planners.
+pub mod accuracy;
+
+// Stage 3, section IV-A.
+pub mod parent;
+
+// Stage 4, IV-B.
+pub mod children;
+
+// Stage 5, IV-C.
+pub mod subgoals;
+
+// Stage 6, IV-D.
+pub mod motion;
+
+// Stage 8.
+pub mod mission;
 
 pub use config::Config;
 pub use geom::{Cell, Point};

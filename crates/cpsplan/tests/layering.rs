@@ -7,9 +7,9 @@ use std::fs;
 use std::path::{Path, PathBuf};
 
 /// The stages, bottom first.
-const STAGES: [&str; 10] = [
-    "geom", "config", "grid", "world", "sensing", "parent", "children", "subgoals", "motion",
-    "mission",
+const STAGES: [&str; 11] = [
+    "geom", "config", "grid", "world", "sensing", "accuracy", "parent", "children", "subgoals",
+    "motion", "mission",
 ];
 
 /// Modules that import nothing from the crate and may be used by every stage.

@@ -202,15 +202,17 @@ proptest! {
     #![proptest_config(ProptestConfig { cases: 12, ..ProptestConfig::default() })]
 
     /// With children, every CPS cycle keeps each child in certain line of sight of
-    /// both parent positions, within the link's range limits, on the knowledge map
-    /// the cycle was planned on and on the ground truth; each child stands in its
+    /// both parent positions, within the link's range limits and sight clearance,
+    /// on the knowledge map the cycle was planned on, and on the ground truth no
+    /// line of sight touches a cell that is not free (full squares); each child stands in its
     /// AND region (so every subgoal leg has one); every robot's path keeps the
     /// robot's radius clear of true obstacles (outside the escape region of its
     /// start).
     #[test]
     fn cps_cycles_keep_their_links(truth in map_strategy(), pick in 0usize..10_000, seed in 0u64..1000) {
         use cpsplan::mission::cycle_and_regions;
-        use cpsplan::sensing::{certain_view, LinkRange};
+        use cpsplan::children::CycleParams;
+        use cpsplan::sensing::certain_view;
         use cpsplan::grid::Traversability;
         let free = free_cells(&truth);
         prop_assume!(!free.is_empty());
@@ -227,10 +229,7 @@ proptest! {
         }
         let mut known = Vec::new();
         let episode = run_episode_with(&truth, start, &config, |_, k| known.push(k.clone())).unwrap();
-        let link = LinkRange {
-            min: config.children.min_range,
-            max: config.children.max_range.unwrap_or(config.scanner.range),
-        };
+        let link = CycleParams::from_config(&config).link;
         let cell = |p: Point| g.world_to_cell(p).unwrap();
         let metres = |a: Point, b: Point| (a.x - b.x).hypot(a.y - b.y);
         // Every move between two scans ran as at least one CPS cycle.
@@ -252,10 +251,14 @@ proptest! {
                         let d = metres(g.cell_center(c), p);
                         prop_assert!(d >= link.min - 1e-9 && d <= link.max + 1e-9, "link {} m", d);
                     }
-                    for grid in [k, &truth] {
-                        let view = certain_view(grid, c, link);
-                        prop_assert!(view[g.index(from)] && view[g.index(to)],
-                            "child at {:?} does not see {:?} and {:?}", c, from, to);
+                    let view = certain_view(k, c, link);
+                    prop_assert!(view[g.index(from)] && view[g.index(to)],
+                        "child at {:?} does not see {:?} and {:?}", c, from, to);
+                    // On the ground truth, by the plain supercover: no cell whose
+                    // full square the line touches is anything but free.
+                    for p in [from, to] {
+                        prop_assert!(segment_clear(&g, c, p, |i| truth.cells()[i] == CellState::Free),
+                            "the line of sight {:?} -> {:?} touches a wall", c, p);
                     }
                     prop_assert!(clear_of_truth(&child.path, config.children.radius),
                         "child path {:?}", child.path);

@@ -105,11 +105,12 @@ mod tests {
     use super::*;
     use crate::grid::fixtures::l_corridor;
     use crate::grid::CellState;
-    use crate::sensing::{certain_view, mutual_view, LinkRange};
+    use crate::sensing::{certain_view, mutual_view, LinkRule};
 
-    const RANGE: LinkRange = LinkRange {
+    const RANGE: LinkRule = LinkRule {
         min: 1.3,
         max: 20.0,
+        clearance: 0.1,
     };
 
     #[test]
@@ -118,7 +119,7 @@ mod tests {
         let g = *k.geometry();
         let from = Cell::new(20, 15);
         let to = Cell::new(105, 100);
-        let mutual = mutual_view(&k, from, to, RANGE);
+        let mutual = mutual_view(&k, from, to, RANGE, |_| true);
         let region = and_region(&mutual, &ChildReach::new(&k, Cell::new(30, 15), 0.25));
         assert!(region.size() > 0);
         for &i in &region.cells {
@@ -136,7 +137,7 @@ mod tests {
         let mut k = l_corridor();
         // A wall cuts the child off from the corner.
         k.fill_rect(60, 5, 62, 25, CellState::Occupied);
-        let mutual = mutual_view(&k, Cell::new(105, 15), Cell::new(105, 100), RANGE);
+        let mutual = mutual_view(&k, Cell::new(105, 15), Cell::new(105, 100), RANGE, |_| true);
         let blocked = and_region(&mutual, &ChildReach::new(&k, Cell::new(30, 15), 0.25));
         assert_eq!(blocked.size(), 0);
         let open = and_region(&mutual, &ChildReach::new(&k, Cell::new(100, 40), 0.25));

@@ -163,15 +163,16 @@ pub(crate) mod tests {
     use crate::children::placement::Eq2;
     use crate::grid::fixtures::{l_corridor, u_corridor};
     use crate::grid::OccupancyGrid;
-    use crate::sensing::{certain_view, LinkRange};
+    use crate::sensing::{certain_view, LinkRule};
 
     /// Cycle parameters with the paper's Eq. (2) targets.
     pub(crate) fn params() -> CycleParams {
         CycleParams {
             child_radius: 0.25,
-            link: LinkRange {
+            link: LinkRule {
                 min: 1.3,
                 max: 20.0,
+                clearance: 0.05,
             },
             eq2: Eq2 {
                 alpha_c: 1.0,

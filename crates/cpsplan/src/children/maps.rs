@@ -17,7 +17,7 @@
 //! The stages above add what they own: the Visibility Graph (subgoals) and the
 //! Voronoi diagrams (motion).
 
-use std::cell::RefCell;
+use std::cell::{OnceCell, RefCell};
 use std::collections::HashMap;
 use std::rc::Rc;
 use std::sync::Arc;
@@ -27,7 +27,7 @@ use super::params::CycleParams;
 use crate::geom::Cell;
 use crate::grid::travel::sweep;
 use crate::grid::{OccupancyGrid, Terrain, Traversability, UNREACHED};
-use crate::sensing::{seen_by_both, View};
+use crate::sensing::{seen_by_both, SightField, View};
 
 /// Views kept at most; the cache starts afresh beyond this (each view is one flag
 /// per cell of the rows its range disc spans).
@@ -40,8 +40,10 @@ pub struct StepMaps<'k> {
     params: CycleParams,
     parent: Arc<Terrain>,
     children: Arc<Terrain>,
-    views: RefCell<HashMap<Cell, Rc<View>>>,
+    views: RefCell<HashMap<Cell, Rc<View<'k>>>>,
     own_terrain: RefCell<HashMap<Cell, ChildReach>>,
+    /// The sight tests of every view, built with the first view.
+    sight: OnceCell<Rc<SightField>>,
 }
 
 impl<'k> StepMaps<'k> {
@@ -92,6 +94,7 @@ impl<'k> StepMaps<'k> {
             children,
             views: RefCell::default(),
             own_terrain: RefCell::default(),
+            sight: OnceCell::new(),
         }
     }
 
@@ -125,13 +128,26 @@ impl<'k> StepMaps<'k> {
             .clone()
     }
 
-    /// The cells in certain line of sight from `from` within the link range
-    /// ([`View`]), cached.
-    pub fn view(&self, from: Cell) -> Rc<View> {
+    /// The cells a child can stand on in certain line of sight from `from` by the
+    /// link rule ([`View`]), cached.
+    pub fn view(&self, from: Cell) -> Rc<View<'k>> {
         if let Some(v) = self.views.borrow().get(&from) {
             return Rc::clone(v);
         }
-        let v = Rc::new(View::new(self.knowledge, from, self.params.link));
+        // Only cells a child can stand on matter (the same for every child:
+        // drivability does not depend on where the child stands).
+        let drivable = &self.children.trav.traversable;
+        let link = self.params.link;
+        let field = self
+            .sight
+            .get_or_init(|| Rc::new(SightField::of_known(self.knowledge, link)));
+        let v = Rc::new(View::of(
+            self.knowledge,
+            from,
+            link,
+            Rc::clone(field),
+            |i| drivable[i],
+        ));
         let mut views = self.views.borrow_mut();
         if views.len() >= MAX_VIEWS {
             views.clear();

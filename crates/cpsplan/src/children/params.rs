@@ -3,7 +3,7 @@
 
 use super::placement::Eq2;
 use crate::config::Config;
-use crate::sensing::LinkRange;
+use crate::sensing::LinkRule;
 
 /// Parameters of a cycle.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -11,7 +11,7 @@ pub struct CycleParams {
     /// Radius of every child, metres.
     pub child_radius: f64,
     /// The instrument's range limits for parent–child links.
-    pub link: LinkRange,
+    pub link: LinkRule,
     /// Eq. (2) weights and targets.
     pub eq2: Eq2,
 }
@@ -24,9 +24,10 @@ impl CycleParams {
         let c = &config.children;
         Self {
             child_radius: c.radius,
-            link: LinkRange {
+            link: LinkRule {
                 min: c.min_range,
                 max: c.max_range.unwrap_or(config.scanner.range),
+                clearance: c.sight_clearance,
             },
             eq2: Eq2 {
                 alpha_c: c.alpha_c,

@@ -90,8 +90,9 @@ pub fn cycle_and_regions(
     ) else {
         return vec![vec![false; g.len()]; cycle.children.len()];
     };
-    let mutual = mutual_view(knowledge, from, to, params.link);
     let terrain = Arc::new(Terrain::without_escape(knowledge, params.child_radius));
+    let drivable = &terrain.trav.traversable;
+    let mutual = mutual_view(knowledge, from, to, params.link, |i| drivable[i]);
     cycle
         .children
         .iter()

@@ -15,8 +15,8 @@ use crate::grid::travel::sweep;
 use crate::grid::{OccupancyGrid, Terrain, Traversability, UNREACHED};
 use crate::motion::{gvd, Roads};
 use crate::parent::{
-    plan_parent_with_reach, relocated_candidate, relocations, ParentPlan, ParentReach,
-    RELOCATE_CANDIDATES,
+    fallback_candidate, plan_parent_with_reach, reachable_frontier, relocated_candidate,
+    relocations, ParentPlan, ParentReach, CPS_FALLBACK_TRIES, RELOCATE_CANDIDATES,
 };
 use crate::subgoals::{MoveError, MovePlan, Retrieval};
 
@@ -223,6 +223,19 @@ pub fn execute_move(
                 let new = plan.candidates.len() - 1;
                 return finish(&step, record, new, cell, children, &m);
             }
+        }
+    }
+    // Last, other reachable frontier cells, nearest first.
+    let terrain = maps.parent_terrain();
+    for cell in reachable_frontier(knowledge, &terrain.trav, &field, config, CPS_FALLBACK_TRIES) {
+        if plan.candidates.iter().any(|c| c.cell == cell) {
+            continue;
+        }
+        if let Ok(m) = step.plan_move(here, cell, children) {
+            let c = fallback_candidate(knowledge, cell, &terrain.trav, &field, config);
+            plan.candidates.push(c);
+            let new = plan.candidates.len() - 1;
+            return finish(&step, record, new, cell, children, &m);
         }
     }
     (record, None)

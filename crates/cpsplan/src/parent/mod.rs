@@ -12,11 +12,13 @@
 //! - [`Candidate`]: step 4 and the terms of Eq. (1); [`evaluate`]: `G`.
 //! - [`plan_parent`]: one whole round.
 //! - [`relocations`], [`relocated_candidate`]: targets near a candidate that no CPS
-//!   move reaches (beyond the paper).
+//!   move reaches, and [`reachable_frontier`]: other reachable frontier cells
+//!   (beyond the paper).
 
 mod band;
 mod border;
 mod candidate;
+mod fallback;
 mod kmeans;
 mod planner;
 mod relocation;
@@ -26,6 +28,7 @@ mod score;
 pub use band::band;
 pub use border::{border_cells, significant_border};
 pub use candidate::{Candidate, CandidateOrigin};
+pub use fallback::{fallback_candidate, frontier_cells, reachable_frontier, CPS_FALLBACK_TRIES};
 pub use kmeans::{kmeans, Clustering};
 pub use planner::{plan_parent, plan_parent_with_reach, Decision, ParentPlan, ParentReach};
 pub use relocation::{

@@ -12,7 +12,7 @@
 //! square metre, nearest first) for a position that does, and only stops when there
 //! is none.
 
-use std::collections::{HashMap, HashSet};
+use std::collections::HashSet;
 
 use rand_chacha::ChaCha8Rng;
 use rayon::prelude::*;
@@ -21,6 +21,7 @@ use serde::{Deserialize, Serialize};
 use super::band::band;
 use super::border::{border_cells, significant_border};
 use super::candidate::{candidate_terms, fill_terms, new_candidate, Candidate, CandidateOrigin};
+use super::fallback::frontier_cells;
 use super::kmeans::kmeans;
 use super::samples::{band_area, cluster_count, scatter};
 use super::score::{evaluate, Terms};
@@ -213,8 +214,7 @@ pub fn plan_parent_with_reach(
         .iter()
         .any(|c| c.r == 1 && c.s_cells >= pc.min_gain_cells)
     {
-        if let Some(cell) = search_reachable_frontier(knowledge, &band_cells, &trav, &field, config)
-        {
+        if let Some(cell) = frontier_cells(knowledge, &band_cells, &trav, &field, config).next() {
             let mut c = new_candidate(cell, g.cell_center(cell), CandidateOrigin::Fallback, 0, &g);
             c.s_cells = expected_gain(knowledge, cell, range_cells, usize::MAX);
             let t = terms(&c);
@@ -245,37 +245,4 @@ pub fn plan_parent_with_reach(
         }
     }
     (plan, ParentReach { trav, field })
-}
-
-/// The reachable-frontier search: reachable, traversable band cells, one per square
-/// metre (the nearest by travel), tried nearest first; the first that expects at
-/// least `min_gain_cells` new cells.
-fn search_reachable_frontier(
-    knowledge: &OccupancyGrid,
-    band_cells: &[usize],
-    trav: &Traversability,
-    field: &DistanceField,
-    config: &Config,
-) -> Option<Cell> {
-    let g = knowledge.geometry();
-    let block = (1.0 / g.resolution).round().max(1.0) as usize;
-    let mut best: HashMap<(usize, usize), usize> = HashMap::new();
-    for &i in band_cells {
-        if !(trav.traversable[i] && field.reached(i)) {
-            continue;
-        }
-        let c = g.cell(i);
-        let key = (c.x / block, c.y / block);
-        let e = best.entry(key).or_insert(i);
-        if (field.cost[i], i) < (field.cost[*e], *e) {
-            *e = i;
-        }
-    }
-    let mut order: Vec<usize> = best.into_values().collect();
-    order.sort_unstable_by_key(|&i| (field.cost[i], i));
-    let need = config.parent.min_gain_cells;
-    order
-        .into_iter()
-        .find(|&i| expected_gain(knowledge, g.cell(i), config.range_cells(), need) >= need)
-        .map(|i| g.cell(i))
 }

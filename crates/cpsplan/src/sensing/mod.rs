@@ -10,12 +10,16 @@
 //! expected gain `S` (Eq. 1) looks through Unknown cells, stopped only by known
 //! obstacles. Because both use one rule, a scan taken at a candidate reveals every
 //! cell that was counted in its `S` or the obstacle that hides it. CPS links use
-//! *certain* visibility: only known-Free cells let the beam through.
+//! *certain* visibility: only known-Free cells let the beam through, and a line of
+//! sight may not touch a non-Free cell's square or come nearer to it than the
+//! sight clearance ([`sight_clear`]).
 
 mod scanner;
 mod shadowcast;
+mod sight;
 mod view;
 
 pub use scanner::{expected_gain, scan, ScanOutcome};
 pub use shadowcast::visible_cells;
-pub use view::{certain_view, mutual_view, seen_by_both, LinkRange, View};
+pub use sight::{sight_clear, LinkRule, SightField};
+pub use view::{certain_view, mutual_view, seen_by_both, View};

@@ -2,86 +2,141 @@
 //! IV-B): which cells a robot at one cell can measure, or be measured from, with
 //! the instrument.
 //!
-//! In: the knowledge map, a position and the instrument's range limits. Out: the
-//! [`View`] from it (only known-Free cells let the beam through and only
-//! known-Free cells are seen, by the scanner's exact sweep, so links are
-//! symmetric), and the cells two positions both see ([`mutual_view`]), from which
-//! the AND region of section IV-B is cut.
+//! In: the knowledge map, a position and the [`LinkRule`]. Out: the [`View`] from
+//! it and the cells two positions both see ([`mutual_view`]), from which the AND
+//! region of section IV-B is cut. A cell is seen when it is known-Free, between
+//! the range limits (centre to centre), and the straight segment between the two
+//! centres keeps more than the sight clearance from every cell that is not
+//! known-Free, cells taken as full closed squares ([`super::sight_clear`]): a line
+//! that touches a wall cell's corner is blocked. The rule is symmetric.
+//!
+//! The scanner's shadowcasting sweep ([`super::visible_cells`], with every
+//! non-Free cell opaque) sees a superset of these cells (it lets lines graze
+//! corners), so it selects the candidates and each is then tested exactly.
 
+use std::cell::Cell as StdCell;
+use std::rc::Rc;
+
+use super::sight::{LinkRule, SightField};
 use crate::geom::Cell;
 use crate::grid::{CellState, GridGeometry, OccupancyGrid};
 use crate::sensing::visible_cells;
 
-/// The instrument's range limits (paper Table I), in metres.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct LinkRange {
-    /// Shortest measurable distance (Table I: 1.3 m).
-    pub min: f64,
-    /// Longest usable distance.
-    pub max: f64,
-}
-
-/// The cells in certain line of sight from one position within range, as a mask
-/// over the rows and columns of the range disc's bounding box (clipped to the
-/// grid). Only known-Free cells let the beam through; only known-Free cells are
-/// seen.
+/// The cells in certain line of sight from one position within range, over the
+/// rows and columns of the range disc's bounding box (clipped to the grid): only
+/// known-Free cells, by the rule of [`LinkRule`]. The exact sight test of a cell
+/// runs the first time the cell is asked about, and its answer is kept.
 #[derive(Debug, Clone)]
-pub struct View {
+pub struct View<'k> {
+    knowledge: &'k OccupancyGrid,
+    field: Rc<SightField>,
+    from: Cell,
     x0: usize,
     y0: usize,
     x1: usize,
     y1: usize,
-    /// The grid's width: the mask keeps the grid's row stride (rows `y0..=y1`),
-    /// so a visited cell's flag is found without a division.
+    /// The grid's width: the states keep the grid's row stride (rows `y0..=y1`),
+    /// so a visited cell's state is found without a division.
     stride: usize,
-    mask: Vec<bool>,
+    state: Vec<StdCell<u8>>,
 }
 
-impl View {
-    /// The view from `from` within `range` (metres, centre to centre).
-    pub fn new(knowledge: &OccupancyGrid, from: Cell, range: LinkRange) -> Self {
+/// Not seen: outside the range limits, not Free, not wanted, or behind a wall for
+/// the scanner's sweep.
+const UNSEEN: u8 = 0;
+/// A candidate whose exact test has not run yet.
+const UNTESTED: u8 = 1;
+/// Seen: the exact test passed.
+const SEEN: u8 = 2;
+/// The exact test failed.
+const BLOCKED: u8 = 3;
+
+impl<'k> View<'k> {
+    /// The view from `from` by `rule`, of every known-Free cell.
+    pub fn new(knowledge: &'k OccupancyGrid, from: Cell, rule: LinkRule) -> Self {
+        let field = Rc::new(SightField::around(knowledge, from, rule));
+        Self::of(knowledge, from, rule, field, |_| true)
+    }
+
+    /// The view from `from` by `rule`, of the cells with `wanted(index)` only
+    /// (others are reported unseen), with the sight tests of `field` (whose
+    /// window must hold the range disc, and whose clearance must be the rule's):
+    /// the AND region needs only the cells a child can stand on.
+    pub fn of(
+        knowledge: &'k OccupancyGrid,
+        from: Cell,
+        rule: LinkRule,
+        field: Rc<SightField>,
+        wanted: impl Fn(usize) -> bool,
+    ) -> Self {
         let g = knowledge.geometry();
         let k = knowledge.cells();
         let res = g.resolution;
         // The disc's radius in whole cells, as the sweep rounds it.
-        let r = (range.max / res).max(0.0);
+        let r = (rule.max / res).max(0.0);
         let reach = ((r * r + 1e-9).floor().sqrt().floor()) as usize;
         let (x0, y0) = (from.x.saturating_sub(reach), from.y.saturating_sub(reach));
-        let x1 = (from.x + reach).min(g.width.saturating_sub(1));
-        let y1 = (from.y + reach).min(g.height.saturating_sub(1));
+        let x1 = from.x.saturating_add(reach).min(g.width.saturating_sub(1));
+        let y1 = from.y.saturating_add(reach).min(g.height.saturating_sub(1));
         let stride = g.width;
         let row0 = y0 * stride;
-        let mut mask = vec![false; (y1 + 1 - y0) * stride];
+        let mut state = vec![UNSEEN; (y1 + 1 - y0) * stride];
         // Every visited cell lies in the disc, so in the box.
         visible_cells(
             g,
             from,
-            range.max / res,
+            rule.max / res,
             |i| k[i] != CellState::Free,
             |i| {
-                mask[i - row0] = k[i] == CellState::Free;
+                if k[i] == CellState::Free && wanted(i) {
+                    state[i - row0] = UNTESTED;
+                }
                 false
             },
         );
         // Closer than the minimum range: not measurable.
-        let min = range.min / res;
+        let min = rule.min / res;
         let near = min.ceil() as usize;
         for y in from.y.saturating_sub(near).max(y0)..=(from.y + near).min(y1) {
             for x in from.x.saturating_sub(near).max(x0)..=(from.x + near).min(x1) {
                 let (dx, dy) = (x as f64 - from.x as f64, y as f64 - from.y as f64);
                 if dx * dx + dy * dy < min * min - 1e-9 {
-                    mask[(y - y0) * stride + x] = false;
+                    state[(y - y0) * stride + x] = UNSEEN;
                 }
             }
         }
         Self {
+            knowledge,
+            field,
+            from,
             x0,
             y0,
             x1,
             y1,
             stride,
-            mask,
+            state: state.into_iter().map(StdCell::new).collect(),
         }
+    }
+
+    /// Whether the cell at state index `j` is seen, testing it if need be.
+    fn seen(&self, j: usize) -> bool {
+        match self.state[j].get() {
+            SEEN => true,
+            UNTESTED => {
+                let i = self.y0 * self.stride + j;
+                let cell = Cell::new(i % self.stride, i / self.stride);
+                let clear = self.field.clear(self.knowledge, self.from, cell);
+                self.state[j].set(if clear { SEEN } else { BLOCKED });
+                clear
+            }
+            _ => false,
+        }
+    }
+
+    /// Whether the cell at state index `j` may be seen (not yet ruled out).
+    #[inline]
+    fn candidate(&self, j: usize) -> bool {
+        matches!(self.state[j].get(), UNTESTED | SEEN)
     }
 
     /// Whether `cell` is seen.
@@ -91,33 +146,38 @@ impl View {
             && cell.y >= self.y0
             && cell.x <= self.x1
             && cell.y <= self.y1
-            && self.mask[(cell.y - self.y0) * self.stride + cell.x]
+            && self.seen((cell.y - self.y0) * self.stride + cell.x)
     }
 
     /// The grid indices of the cells seen, ascending.
     pub fn cells(&self) -> impl Iterator<Item = usize> + '_ {
         let start = self.y0 * self.stride;
-        self.mask
-            .iter()
-            .enumerate()
-            .filter(|&(_, &seen)| seen)
-            .map(move |(i, _)| start + i)
+        (0..self.state.len())
+            .filter(|&j| self.seen(j))
+            .map(move |j| start + j)
+    }
+
+    /// Whether some cell with `pred(index)` is seen (`pred` is asked first, so
+    /// that only cells it accepts are tested).
+    pub fn sees_any(&self, pred: impl Fn(usize) -> bool) -> bool {
+        let start = self.y0 * self.stride;
+        (0..self.state.len()).any(|j| self.candidate(j) && pred(start + j) && self.seen(j))
     }
 
     /// The view as a mask over all cells of a grid of `geometry`.
     pub fn to_mask(&self, geometry: &GridGeometry) -> Vec<bool> {
         let mut out = vec![false; geometry.len()];
         let start = self.y0 * geometry.width;
-        out[start..start + self.mask.len()].copy_from_slice(&self.mask);
+        for j in 0..self.state.len() {
+            out[start + j] = self.seen(j);
+        }
         out
     }
 }
 
-/// Cells in certain line of sight from `from` within `range` (metres, centre to
-/// centre), as a mask over the grid. Only known-Free cells let the beam through;
-/// only known-Free cells are reported.
-pub fn certain_view(knowledge: &OccupancyGrid, from: Cell, range: LinkRange) -> Vec<bool> {
-    View::new(knowledge, from, range).to_mask(knowledge.geometry())
+/// Cells in certain line of sight from `from` by `rule`, as a mask over the grid.
+pub fn certain_view(knowledge: &OccupancyGrid, from: Cell, rule: LinkRule) -> Vec<bool> {
+    View::new(knowledge, from, rule).to_mask(knowledge.geometry())
 }
 
 /// The cells both views see, as ascending grid indices.
@@ -130,27 +190,39 @@ pub fn seen_by_both(geometry: &GridGeometry, a: &View, b: &View) -> Vec<u32> {
         return out;
     }
     for y in y0..=y1 {
-        let ra = &a.mask[(y - a.y0) * a.stride..][x0..=x1];
-        let rb = &b.mask[(y - b.y0) * b.stride..][x0..=x1];
-        for (dx, (&p, &q)) in ra.iter().zip(rb).enumerate() {
-            if p && q {
-                out.push((y * w + x0 + dx) as u32);
+        let (ra, rb) = ((y - a.y0) * a.stride, (y - b.y0) * b.stride);
+        for x in x0..=x1 {
+            let (ja, jb) = (ra + x, rb + x);
+            if a.candidate(ja) && b.candidate(jb) && a.seen(ja) && b.seen(jb) {
+                out.push((y * w + x) as u32);
             }
         }
     }
     out
 }
 
-/// Cells in certain line of sight from both parent positions within range, as
-/// ascending grid indices.
+/// Cells in certain line of sight from both parent positions by `rule`, among the
+/// cells with `wanted(index)`, as ascending grid indices.
 pub fn mutual_view(
     knowledge: &OccupancyGrid,
     parent_from: Cell,
     parent_to: Cell,
-    range: LinkRange,
+    rule: LinkRule,
+    wanted: impl Fn(usize) -> bool + Copy,
 ) -> Vec<u32> {
-    let a = View::new(knowledge, parent_from, range);
-    let b = View::new(knowledge, parent_to, range);
+    let field = Rc::new(SightField::new(
+        knowledge,
+        (
+            parent_from.x.min(parent_to.x),
+            parent_from.y.min(parent_to.y),
+            parent_from.x.max(parent_to.x),
+            parent_from.y.max(parent_to.y),
+        ),
+        rule.max / knowledge.resolution(),
+        rule.clearance / knowledge.resolution(),
+    ));
+    let a = View::of(knowledge, parent_from, rule, Rc::clone(&field), wanted);
+    let b = View::of(knowledge, parent_to, rule, field, wanted);
     seen_by_both(knowledge.geometry(), &a, &b)
 }
 
@@ -158,17 +230,21 @@ pub fn mutual_view(
 mod tests {
     use super::*;
     use crate::grid::fixtures::l_corridor;
+    use crate::sensing::sight_clear;
 
-    const RANGE: LinkRange = LinkRange {
+    const RANGE: LinkRule = LinkRule {
         min: 1.3,
         max: 20.0,
+        clearance: 0.0,
     };
 
     proptest::proptest! {
-        /// The windowed view agrees with a plain whole-grid mask of the visible,
-        /// known-Free cells between the range limits.
+        /// The view is exactly the rule, cell by cell: known-Free, between the
+        /// range limits, and a clear line of sight by the full-square test (no
+        /// shadowcasting in this reference, so the sweep's candidates are checked
+        /// to include every cell the rule admits).
         #[test]
-        fn view_matches_the_plain_rule(
+        fn view_is_the_rule(
             w in 3usize..60,
             h in 3usize..60,
             cells in proptest::collection::vec(0u8..5, 3600),
@@ -176,6 +252,7 @@ mod tests {
             oy in 0usize..60,
             min in 0.0f64..1.5,
             max in 0.5f64..4.0,
+            clearance in proptest::sample::select(vec![0.0, 0.05, 0.1, 0.25]),
         ) {
             let g = GridGeometry::new(w, h, 0.1, crate::Point::default());
             let mut k = OccupancyGrid::filled(g, CellState::Free);
@@ -188,18 +265,25 @@ mod tests {
                 }
             }
             let from = Cell::new(ox % w, oy % h);
-            let range = LinkRange { min, max };
-            let mut plain = vec![false; g.len()];
+            let rule = LinkRule { min, max, clearance };
             let kc = k.cells();
-            visible_cells(&g, from, max / 0.1, |i| kc[i] != CellState::Free, |i| {
-                let (dx, dy) = ((i % w) as f64 - from.x as f64, (i / w) as f64 - from.y as f64);
-                plain[i] = kc[i] == CellState::Free && dx * dx + dy * dy >= (min / 0.1).powi(2) - 1e-9;
-                false
-            });
-            let view = View::new(&k, from, range);
-            proptest::prop_assert_eq!(view.to_mask(&g), plain.clone());
-            for (i, &p) in plain.iter().enumerate() {
-                proptest::prop_assert_eq!(view.sees(g.cell(i)), p);
+            let plain: Vec<bool> = (0..g.len())
+                .map(|i| {
+                    let c = g.cell(i);
+                    let (dx, dy) = (c.x as f64 - from.x as f64, c.y as f64 - from.y as f64);
+                    let d2 = dx * dx + dy * dy;
+                    kc[i] == CellState::Free
+                        && d2 >= (min / 0.1).powi(2) - 1e-9
+                        && d2 <= (max / 0.1).powi(2) + 1e-9
+                        && kc[g.index(from)] == CellState::Free
+                        && sight_clear(&k, from, c, clearance / 0.1)
+                })
+                .collect();
+            let view = View::new(&k, from, rule);
+            let got = view.to_mask(&g);
+            for i in 0..g.len() {
+                proptest::prop_assert_eq!(got[i], plain[i], "cell {:?}", g.cell(i));
+                proptest::prop_assert_eq!(view.sees(g.cell(i)), plain[i]);
             }
         }
     }

@@ -16,5 +16,5 @@ mod retrieval;
 mod visgraph;
 
 pub use corners::{FREE_SIDE_TOLERANCE, MERGE_DISTANCE, OFFSET, RDP_TOLERANCE};
-pub use retrieval::{plan_move, MoveError, MovePlan, Retrieval};
+pub use retrieval::{plan_move, MoveError, MovePlan, Retrieval, FINE_SPACING_M};
 pub use visgraph::{path_length, VisibilityGraph, DETAIL_LINKS};

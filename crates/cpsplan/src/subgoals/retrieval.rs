@@ -134,10 +134,7 @@ fn retrieve(
     // from here: without one, no target can be reached (checked once, cheaply,
     // instead of through every subgoal of every candidate).
     let view = maps.view(from);
-    if let Some(child) = reach
-        .iter()
-        .position(|r| !view.cells().any(|i| r.reaches(i)))
-    {
+    if let Some(child) = reach.iter().position(|r| !view.sees_any(|i| r.reaches(i))) {
         return Err(MoveError::ChildCutOff { child });
     }
     // Step 1.
@@ -160,10 +157,9 @@ fn retrieve(
         .shortest_path(maps.knowledge().geometry(), trav, from, to)
         .ok_or(MoveError::NoPath)?;
     let link = maps.params().link;
-    let path = densify(
-        &corners,
-        subgoal_spacing(link.max, maps.knowledge().geometry().resolution),
-    );
+    let res = maps.knowledge().geometry().resolution;
+    let mut path = densify(&corners, subgoal_spacing(link.max, res));
+    let fine_spacing = (FINE_SPACING_M / res).max(1.0);
     // No cell is within range of two parent positions more than twice the range
     // apart.
     let too_far = |a: Cell, b: Cell| {
@@ -183,6 +179,23 @@ fn retrieve(
                 .ok()
                 .map(|c| (j, c))
         });
+        // Step 6 taken further when even the nearest subgoal fails: points of the
+        // leg to it, every FINE_SPACING_M metres, nearest last.
+        let next = next.or_else(|| {
+            let fine = densify(&[path[here], path[here + 1]], fine_spacing);
+            fine.get(1..fine.len().saturating_sub(1))?
+                .iter()
+                .rev()
+                .find_map(|&p| {
+                    place_cycle(maps, path[here], p, &kids, &reach)
+                        .ok()
+                        .map(|c| (p, c))
+                })
+                .map(|(p, c)| {
+                    path.insert(here + 1, p);
+                    (here + 1, c)
+                })
+        });
         let Some((j, cycle)) = next else {
             return Err(MoveError::Stuck { at: path[here] });
         };
@@ -193,6 +206,11 @@ fn retrieve(
     }
     done(cycles, corners)
 }
+
+/// Spacing, metres, of the points tried on the leg to the next subgoal when no
+/// subgoal of the path gives a cycle (narrow, cluttered passages, where only short
+/// legs have an AND region).
+pub const FINE_SPACING_M: f64 = 0.5;
 
 /// Spacing, in cells, of the extra subgoals on a straight Visibility Graph leg: a
 /// quarter of the link range (at least one cell), so that a leg longer than the

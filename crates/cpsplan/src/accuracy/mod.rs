@@ -1,0 +1,29 @@
+//! The CPS measurement chain and its error (pipeline stage 7; paper sections III
+//! and V-A-2, Table I, Fig. 10): the instrument's observation model, first-order
+//! propagation of the positioning error through every CPS cycle, the batch
+//! adjustment it is checked against, and a Monte Carlo simulation with real noise.
+//!
+//! In: an instrument and the geometry of a chain of cycles (the parent's stations,
+//! the children's points). Out: the covariance of every parent pose, hence of every
+//! scan position. It rests on [`crate::geom`] and [`crate::config`] only, so the
+//! planners above (the children's `min-error` strategy, the parent's error term)
+//! can ask it what a placement would cost.
+//!
+//! - [`Instrument`]: presets and figures.
+//! - [`Model`]: one link's observation, Jacobians, noise.
+//! - [`Chain`]: the sequential propagation over the joint state.
+//! - [`batch_station_covariance`]: the whole network at once.
+//! - [`monte_carlo`]: noise drawn through the chain, estimated by nonlinear least
+//!   squares.
+
+mod batch;
+mod chain;
+mod instrument;
+mod model;
+mod monte_carlo;
+
+pub use batch::{batch_station_covariance, CycleGeometry};
+pub use chain::{Chain, ChainError, PoseCovariance};
+pub use instrument::{Instrument, ARCSEC};
+pub use model::Model;
+pub use monte_carlo::{monte_carlo, MonteCarlo};
