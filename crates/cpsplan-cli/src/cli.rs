@@ -5,6 +5,7 @@ use std::path::PathBuf;
 
 use anyhow::Result;
 use clap::{Args, Parser, Subcommand, ValueEnum};
+use cpsplan::config::{ChildStrategy, InstrumentModel};
 use cpsplan::world::builtin::BuiltinMap;
 use cpsplan::Point;
 
@@ -28,6 +29,8 @@ pub enum Command {
     Maps(MapsArgs),
     /// Plan one step for a real team on a partial map; prints the plan as JSON.
     Plan(PlanArgs),
+    /// List the instrument presets with their accuracy and range.
+    Instruments,
 }
 
 /// Options of `cpsplan plan`.
@@ -52,6 +55,12 @@ pub struct PlanArgs {
     /// Seed of the planner's random choices.
     #[arg(long, value_name = "N")]
     pub seed: Option<u64>,
+    /// The instrument measuring the CPS links (see `cpsplan instruments`).
+    #[arg(long, value_name = "NAME", value_parser = parse_instrument)]
+    pub instrument: Option<InstrumentModel>,
+    /// How the children's spots are chosen.
+    #[arg(long, value_name = "STRATEGY", value_parser = parse_strategy)]
+    pub child_strategy: Option<ChildStrategy>,
     /// Also draw the planned step as a PNG figure (map, candidates, AND regions,
     /// subgoals, every robot's path) into this file.
     #[arg(long, value_name = "FILE.png")]
@@ -97,6 +106,18 @@ pub struct ExploreArgs {
     /// Number of child robots (default 2); every move runs as CPS cycles with them, 0 lets the parent move alone.
     #[arg(long, value_name = "N")]
     pub children: Option<usize>,
+    /// How the children's spots are chosen: random, balanced (Eq. 2, αc = βc, the
+    /// default), angle (αc ≫ βc), distance (αc ≪ βc), or min-error (the spots
+    /// that minimise the predicted error of the parent's next pose).
+    #[arg(long, value_name = "STRATEGY", value_parser = parse_strategy)]
+    pub child_strategy: Option<ChildStrategy>,
+    /// The instrument measuring the CPS links (see `cpsplan instruments`).
+    #[arg(long, value_name = "NAME", value_parser = parse_instrument)]
+    pub instrument: Option<InstrumentModel>,
+    /// Monte Carlo runs of the campaign's CPS chain with real measurement noise
+    /// (mean error per scan in the records; 0: none).
+    #[arg(long, value_name = "N")]
+    pub monte_carlo: Option<usize>,
     /// Seed of every random choice (and of the built-in map's layout).
     #[arg(long, value_name = "N")]
     pub seed: Option<u64>,
@@ -146,6 +167,29 @@ fn parse_point(s: &str) -> Result<Point, String> {
     Ok(Point::new(num(x)?, num(y)?))
 }
 
+fn parse_instrument(s: &str) -> Result<InstrumentModel, String> {
+    InstrumentModel::ALL
+        .into_iter()
+        .find(|m| m.name() == s.trim())
+        .ok_or_else(|| {
+            let names: Vec<&str> = InstrumentModel::ALL.iter().map(|m| m.name()).collect();
+            format!("unknown instrument `{s}` (one of: {})", names.join(", "))
+        })
+}
+
+fn parse_strategy(s: &str) -> Result<ChildStrategy, String> {
+    ChildStrategy::ALL
+        .into_iter()
+        .find(|m| m.name() == s.trim())
+        .ok_or_else(|| {
+            let names: Vec<&str> = ChildStrategy::ALL.iter().map(|m| m.name()).collect();
+            format!(
+                "unknown child strategy `{s}` (one of: {})",
+                names.join(", ")
+            )
+        })
+}
+
 fn parse_scan_number(s: &str) -> Result<usize, String> {
     match s.trim().parse::<usize>() {
         Ok(n) if n >= 1 => Ok(n),
@@ -159,6 +203,7 @@ pub fn run() -> Result<()> {
         Command::Explore(args) => commands::explore::run(&args),
         Command::Maps(args) => commands::maps::run(&args),
         Command::Plan(args) => commands::plan::run(&args),
+        Command::Instruments => commands::instruments::run(),
     }
 }
 

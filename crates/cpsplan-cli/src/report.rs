@@ -12,7 +12,7 @@ use cpsplan::{Config, OccupancyGrid, Point};
 use serde::Serialize;
 
 use crate::formats::rosmap::save_map;
-use crate::render::render_episode;
+use crate::render::{error_chart, render_episode};
 
 /// Where the ground truth came from.
 #[derive(Debug, Clone)]
@@ -126,6 +126,9 @@ struct MetricsRow {
     target_s_cells: Option<usize>,
     target_l_m: Option<f64>,
     path_length_m: f64,
+    position_sigma_m: Option<f64>,
+    heading_sigma_arcsec: Option<f64>,
+    monte_carlo_error_m: Option<f64>,
 }
 
 /// The metrics table as CSV text, one row per scan.
@@ -151,6 +154,9 @@ pub fn metrics_csv(episode: &Episode) -> Result<Vec<u8>> {
             target_s_cells: t.map(|c| c.s_cells),
             target_l_m: t.and_then(|c| c.l_m),
             path_length_m: s.plan.path_length_m,
+            position_sigma_m: s.position_sigma_m,
+            heading_sigma_arcsec: s.heading_sigma_arcsec,
+            monte_carlo_error_m: s.monte_carlo_error_m,
         })?;
     }
     w.into_inner().map_err(|e| anyhow::anyhow!("{e}"))
@@ -188,12 +194,21 @@ pub fn write_episode_outputs(
     };
     let title = format!("cpsplan explore — {}", source.label());
     let png = render_episode(truth, episode, &title)?;
+    let chart = error_chart(
+        episode,
+        &format!("positioning error \u{2014} {}", source.label()),
+    );
+    let chart_png = chart.as_ref().map(|c| c.png()).transpose()?;
     write_atomic(
         &dir.join("episode.json"),
         &serde_json::to_vec_pretty(&record)?,
     )?;
     write_atomic(&dir.join("metrics.csv"), &metrics_csv(episode)?)?;
     write_atomic(&dir.join("map.png"), &png)?;
+    if let (Some(c), Some(p)) = (&chart, &chart_png) {
+        write_atomic(&dir.join("error.png"), p)?;
+        write_atomic(&dir.join("error.svg"), c.svg().as_bytes())?;
+    }
     if let Some(k) = &episode.knowledge {
         save_map(k, &dir.join("knowledge.yaml"))?;
     }

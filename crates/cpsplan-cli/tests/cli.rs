@@ -21,6 +21,45 @@ fn summary(dir: &Path) -> Value {
     serde_json::from_str(&text).expect("valid JSON")
 }
 
+/// Every CPS link of the episode in `dir` (each child's spot to the parent's
+/// positions before and after its cycle) is checked on the ground truth `truth`:
+/// no cell whose full square the line touches is anything but free. Returns the
+/// number of links checked.
+fn links_clear_on_truth(dir: &Path, truth: &cpsplan::OccupancyGrid) -> usize {
+    let text = std::fs::read_to_string(dir.join("episode.json")).expect("episode.json");
+    let e: Value = serde_json::from_str(&text).expect("valid JSON");
+    let g = *truth.geometry();
+    let cell = |p: &Value| {
+        let pt = cpsplan::Point::new(p["x"].as_f64().unwrap(), p["y"].as_f64().unwrap());
+        g.world_to_cell(pt).expect("inside the map")
+    };
+    let free = |i: usize| truth.cells()[i] == cpsplan::CellState::Free;
+    let mut links = 0;
+    for step in e["steps"].as_array().unwrap() {
+        for cycle in step["move"]["cycles"].as_array().unwrap() {
+            let parents = [cell(&cycle["parent_from"]), cell(&cycle["parent_to"])];
+            for child in cycle["children"].as_array().unwrap() {
+                let c = cell(&child["to"]);
+                for p in parents {
+                    assert!(
+                        cpsplan::grid::line::segment_clear(&g, c, p, free),
+                        "{}: the link {c:?} -> {p:?} touches a cell that is not free",
+                        dir.display()
+                    );
+                    links += 1;
+                }
+            }
+        }
+    }
+    links
+}
+
+/// The ground truth of a shared map at the default planning resolution.
+fn shared_truth(yaml: &Path) -> cpsplan::OccupancyGrid {
+    let grid = cpsplan_cli::formats::rosmap::load_map(yaml).expect("map loads");
+    cpsplan::world::resample_conservative(&grid, 0.1).solidified()
+}
+
 /// Runs `explore` and asserts a clean failure: exit 2, one line naming `needle`,
 /// and no output directory.
 fn assert_rejected(args: &[&str], needle: &str) {
@@ -79,6 +118,22 @@ fn explore_builtin_site_writes_every_output() {
     );
     let retrievals = s["subgoal_retrievals"].as_u64().unwrap();
     assert!(retrievals > 0, "{s}");
+    let site = cpsplan::world::builtin::BuiltinMap::Site
+        .generate(0)
+        .solidified();
+    assert!(links_clear_on_truth(&out, &site) > 0);
+    // Every step carries its predicted accuracy; the first scan is the known start.
+    let ep0: Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("episode.json")).unwrap()).unwrap();
+    let first = &ep0["steps"][0];
+    assert_eq!(first["position_sigma_m"].as_f64(), Some(0.0));
+    let last = &ep0["steps"][scans - 1];
+    let cov = last["covariance_m2"].as_array().unwrap();
+    let (xx, yy) = (cov[0][0].as_f64().unwrap(), cov[1][1].as_f64().unwrap());
+    let sigma = last["position_sigma_m"].as_f64().unwrap();
+    assert!((sigma - (xx + yy).sqrt()).abs() < 1e-12);
+    assert_eq!(s["final_position_sigma_m"].as_f64(), Some(sigma));
+    assert!(last["heading_sigma_arcsec"].as_f64().unwrap() > 0.0);
     // episode.json: one step per scan, candidates with their Eq. (1) terms, paths.
     let ep: Value =
         serde_json::from_str(&std::fs::read_to_string(out.join("episode.json")).unwrap()).unwrap();
@@ -138,6 +193,16 @@ fn builtin_maps_are_explored_with_children() {
         assert!(s["wall_coverage"].as_f64().unwrap() >= 0.97, "{map}: {s}");
         let scans = s["scans"].as_u64().unwrap();
         assert!(s["cps_cycles"].as_u64().unwrap() + 1 >= scans, "{map}: {s}");
+        let builtin: cpsplan::world::builtin::BuiltinMap = map.parse().unwrap();
+        let truth = builtin.generate(0).solidified();
+        assert!(links_clear_on_truth(&out, &truth) > 0, "{map}: no links");
+        // The accuracy model's figures.
+        let sigma = s["final_position_sigma_m"].as_f64().unwrap();
+        assert!(sigma > 0.0 && sigma < 10.0, "{map}: σ {sigma}");
+        let pct = s["error_percent_of_travel"].as_f64().unwrap();
+        let travel = s["parent_travel_m"].as_f64().unwrap();
+        assert!((pct - 100.0 * sigma / travel).abs() < 1e-9, "{map}: {s}");
+        assert!(out.join("error.png").is_file() && out.join("error.svg").is_file());
     }
 }
 
@@ -302,6 +367,9 @@ fn explore_shared(dir: &Path, name: &str, min_coverage: f64, extra: &[&str]) {
     let s = summary(&out);
     assert_ne!(s["stop_reason"], "scan_limit", "{name}: {s}");
     assert_ne!(s["stop_reason"], "no_cps_move", "{name}: {s}");
+    let truth = shared_truth(&dir.join(format!("{name}.yaml")));
+    let links = links_clear_on_truth(&out, &truth);
+    assert!(extra.contains(&"0") || links > 0, "{name}: no links");
     let c = s["coverage"].as_f64().unwrap();
     assert!(c >= min_coverage, "{name}: coverage {c} < {min_coverage}");
     // Space out of the robot's reach (SLAM streaks, half-shut doors) is at most a

@@ -220,8 +220,9 @@ proptest! {
         let start = g.cell_center(free[pick % free.len()]);
         let mut config = small_config(seed);
         config.scanner.range = 4.0;
-        // Two to four children.
+        // Two to four children, every strategy.
         config.children.count = 2 + (seed as usize / 2) % 3;
+        config.children.strategy = cpsplan::config::ChildStrategy::ALL[(seed as usize / 6) % 5];
         config.mission.max_scans = 20;
         // A short link range in half the cases, so that long moves need subgoals.
         if seed % 2 == 0 {

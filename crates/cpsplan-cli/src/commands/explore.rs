@@ -50,6 +50,15 @@ pub fn build_config(args: &ExploreArgs) -> Result<Config> {
     if let Some(n) = args.children {
         config.children.count = n;
     }
+    if let Some(s) = args.child_strategy {
+        config.children.strategy = s;
+    }
+    if let Some(m) = args.instrument {
+        config.instrument.model = m;
+    }
+    if let Some(n) = args.monte_carlo {
+        config.accuracy.monte_carlo_runs = n;
+    }
     if let Some(s) = args.seed {
         config.seed = s;
     }
@@ -153,6 +162,18 @@ pub fn run(args: &ExploreArgs) -> Result<()> {
             crate::report::stop_label(s.stop_reason),
             wall_ms
         );
+        if let (Some(sigma), Some(p)) = (s.final_position_sigma_m, s.error_percent_of_travel) {
+            let mc = s
+                .monte_carlo_mean_error_m
+                .map(|e| format!(", Monte Carlo mean error {:.1} mm", e * 1e3))
+                .unwrap_or_default();
+            println!(
+                "predicted error of the last scan position: {:.1} mm (1\u{3c3}, {:.4} % of the parent's travel, {}){mc}",
+                sigma * 1e3,
+                p,
+                s.instrument
+            );
+        }
         println!("report written to {}", args.out.display());
     }
     Ok(())

@@ -18,6 +18,12 @@ pub fn run(args: &PlanArgs) -> Result<()> {
     if let Some(s) = args.seed {
         config.seed = s;
     }
+    if let Some(s) = args.child_strategy {
+        config.children.strategy = s;
+    }
+    if let Some(m) = args.instrument {
+        config.instrument.model = m;
+    }
     config.validate()?;
     let grid = load_any(&args.known, config.resolution)?;
     let known = resample_conservative(&grid, config.resolution);

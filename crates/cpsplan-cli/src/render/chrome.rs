@@ -5,7 +5,9 @@
 use tiny_skia::PathBuilder;
 
 use super::canvas::{fit_text, text_height, text_width, Canvas, Rgb};
-use super::marks::{draw_arrowhead, draw_cross, draw_marker, draw_ring, draw_subgoal, ramp};
+use super::marks::{
+    draw_arrowhead, draw_cross, draw_ellipse, draw_marker, draw_ring, draw_subgoal, ramp,
+};
 use super::palette;
 
 /// How a legend entry is drawn.
@@ -27,6 +29,8 @@ pub(crate) enum Swatch {
     Cross(Rgb),
     /// A subgoal marker.
     Subgoal,
+    /// An error ellipse.
+    Ellipse(Rgb),
     /// A colour ramp, low to high, left to right.
     Ramp(&'static [Rgb]),
 }
@@ -261,6 +265,18 @@ fn draw_swatch(canvas: &mut Canvas, style: Style, swatch: Swatch, x: i64, cy: i6
         Swatch::Subgoal => {
             draw_subgoal(canvas, style, x as f32 + s as f32 / 2.0, cy as f32);
             s
+        }
+        Swatch::Ellipse(c) => {
+            let w = 2 * s;
+            draw_ellipse(
+                canvas,
+                style,
+                (x as f32 + w as f32 / 2.0, cy as f32),
+                (w as f32 / 2.0 - 1.0, s as f32 / 3.0),
+                0.3,
+                c,
+            );
+            w
         }
         Swatch::Ramp(stops) => {
             let w = 5 * s;

@@ -8,7 +8,7 @@ use tiny_skia::PathBuilder;
 use super::canvas::{Canvas, Rgb};
 use super::chrome::{Header, LegendItem, Style, Swatch};
 use super::layout::{check_geometry, Class, Frame, MapLayout};
-use super::marks::{draw_arrow_midway, draw_marker, draw_subgoal};
+use super::marks::{draw_arrow_midway, draw_ellipse, draw_marker, draw_subgoal};
 use super::palette;
 use super::placer::{draw_label, label_size, Placer};
 use super::RenderError;
@@ -99,6 +99,14 @@ pub(super) fn draw_episode(
         legend.push(LegendItem {
             swatch: Swatch::Subgoal,
             label: "subgoal",
+        });
+    }
+    let magnification = ellipse_magnification(episode, &g);
+    let ellipse_label = magnification.map(|m| format!("error ellipse 1\u{3c3} \u{d7}{}", trim(m)));
+    if let Some(l) = &ellipse_label {
+        legend.push(LegendItem {
+            swatch: Swatch::Ellipse(palette::ELLIPSE),
+            label: l,
         });
     }
     legend.extend([
@@ -278,6 +286,9 @@ pub(crate) fn draw_overlay(
     let legs = legs(layout, episode);
     draw_children(canvas, layout, episode);
     draw_trajectory(canvas, style, &legs);
+    if let Some(m) = ellipse_magnification(episode, &layout.geometry()) {
+        draw_ellipses(canvas, layout, style, episode, m);
+    }
 
     let positions: Vec<Point> = if episode.steps.is_empty() {
         vec![episode.start]
@@ -350,6 +361,75 @@ pub(crate) fn draw_overlay(
         };
         let leader = far.then_some((dot, radius_of(i) + 1.75));
         draw_label(canvas, style, &rect, &label, edge, leader);
+    }
+}
+
+/// How much the scan positions' error ellipses are magnified: the largest major
+/// semi-axis drawn about 3 % of the map's longer side, rounded down to 1, 2 or 5
+/// times a power of ten; `None` without predicted errors.
+fn ellipse_magnification(episode: &Episode, g: &cpsplan::GridGeometry) -> Option<f64> {
+    let biggest = episode
+        .steps
+        .iter()
+        .filter_map(|s| s.covariance_m2)
+        .map(|c| major_axis(&c))
+        .fold(0.0f64, f64::max);
+    if biggest.is_nan() || biggest <= 0.0 {
+        return None;
+    }
+    let (ex, ey) = g.extent();
+    let want = 0.03 * ex.max(ey) / biggest;
+    let mag = 10f64.powf(want.log10().floor());
+    let m = [5.0, 2.0, 1.0]
+        .iter()
+        .map(|k| k * mag)
+        .find(|&m| m <= want)
+        .unwrap_or(mag);
+    Some(m)
+}
+
+/// The semi-axes (1σ, metres) and the major axis's angle of a 2×2 covariance.
+fn ellipse_of(c: &[[f64; 2]; 2]) -> (f64, f64, f64) {
+    let (xx, xy, yy) = (c[0][0], c[0][1], c[1][1]);
+    let tr = xx + yy;
+    let disc = ((xx - yy).powi(2) / 4.0 + xy * xy).max(0.0).sqrt();
+    let (l1, l2) = (tr / 2.0 + disc, (tr / 2.0 - disc).max(0.0));
+    (
+        l1.max(0.0).sqrt(),
+        l2.sqrt(),
+        0.5 * (2.0 * xy).atan2(xx - yy),
+    )
+}
+
+fn major_axis(c: &[[f64; 2]; 2]) -> f64 {
+    ellipse_of(c).0
+}
+
+fn trim(v: f64) -> String {
+    let s = format!("{v:.6}");
+    s.trim_end_matches('0').trim_end_matches('.').to_string()
+}
+
+/// Every scan position's 1σ error ellipse, magnified `m` times.
+fn draw_ellipses(canvas: &mut Canvas, layout: &MapLayout, style: Style, episode: &Episode, m: f64) {
+    let px_per_m = 1.0 / layout.metres_per_px();
+    for s in &episode.steps {
+        let Some(c) = s.covariance_m2 else { continue };
+        let (a, b, angle) = ellipse_of(&c);
+        let centre = layout.world_to_px(s.position);
+        if !(centre.0.is_finite() && centre.1.is_finite()) {
+            continue;
+        }
+        // The map's yaw turns the ellipse with it.
+        let yaw = layout.geometry().yaw;
+        draw_ellipse(
+            canvas,
+            style,
+            centre,
+            ((a * m * px_per_m) as f32, (b * m * px_per_m) as f32),
+            (angle - yaw) as f32,
+            palette::ELLIPSE,
+        );
     }
 }
 

@@ -97,6 +97,11 @@ impl MapLayout {
         self.px_per_cell as f64 / self.cells_per_px as f64
     }
 
+    /// The geometry of the map drawn.
+    pub fn geometry(&self) -> GridGeometry {
+        self.geometry
+    }
+
     /// Metres per pixel.
     pub fn metres_per_px(&self) -> f64 {
         self.geometry.resolution / self.scale()

@@ -132,3 +132,35 @@ pub(crate) fn draw_arrow_midway(canvas: &mut Canvas, style: Style, leg: &[(f32, 
         rest -= l;
     }
 }
+
+/// An error ellipse centred at `c` with semi-axes `axes` (pixels) and the major
+/// axis at `angle` radians from the canvas x axis (counter-clockwise on the map):
+/// a light fill and a thin outline.
+pub(crate) fn draw_ellipse(
+    canvas: &mut Canvas,
+    style: Style,
+    c: (f32, f32),
+    axes: (f32, f32),
+    angle: f32,
+    colour: Rgb,
+) {
+    let (a, b) = (axes.0.max(0.75), axes.1.max(0.75));
+    let (s, co) = angle.sin_cos();
+    let mut pb = PathBuilder::new();
+    for k in 0..=48 {
+        let t = k as f32 / 48.0 * std::f32::consts::TAU;
+        let (ex, ey) = (a * t.cos(), b * t.sin());
+        // The map's y axis points up, the canvas's down.
+        let (px, py) = (c.0 + ex * co - ey * s, c.1 - (ex * s + ey * co));
+        if k == 0 {
+            pb.move_to(px, py);
+        } else {
+            pb.line_to(px, py);
+        }
+    }
+    pb.close();
+    if let Some(path) = pb.finish() {
+        canvas.fill_path(&path, colour, 60);
+        canvas.stroke_path(&path, colour, 255, (style.line_width() * 0.5).max(1.0));
+    }
+}

@@ -17,6 +17,7 @@
 //! over missed over free over unknown), so thin walls never vanish.
 
 mod canvas;
+mod chart;
 mod chrome;
 mod episode;
 mod layout;
@@ -26,6 +27,7 @@ pub(crate) mod palette;
 mod placer;
 mod step;
 
+pub use self::chart::{error_chart, Chart, Series};
 pub use self::episode::render_episode;
 pub use self::map::render_map;
 pub use self::step::{render_step, StepView};

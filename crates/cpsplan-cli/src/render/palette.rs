@@ -54,3 +54,5 @@ pub const SCORE_RAMP: [Rgb; 5] = [
     Rgb::hex(0xcf3a1c),
     Rgb::hex(0x8c1a0f),
 ];
+/// Error ellipses of the scan positions.
+pub const ELLIPSE: Rgb = Rgb::hex(0x6a3d9a);

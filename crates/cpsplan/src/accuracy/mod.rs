@@ -15,15 +15,18 @@
 //! - [`batch_station_covariance`]: the whole network at once.
 //! - [`monte_carlo`]: noise drawn through the chain, estimated by nonlinear least
 //!   squares.
+//! - [`Objective`]: what a placement of the children costs at the next pose.
 
 mod batch;
 mod chain;
 mod instrument;
 mod model;
 mod monte_carlo;
+mod placement;
 
 pub use batch::{batch_station_covariance, CycleGeometry};
 pub use chain::{Chain, ChainError, PoseCovariance};
 pub use instrument::{Instrument, ARCSEC};
 pub use model::Model;
 pub use monte_carlo::{monte_carlo, MonteCarlo};
+pub use placement::Objective;

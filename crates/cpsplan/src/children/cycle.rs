@@ -45,6 +45,11 @@ pub struct CpsCycle {
     pub parent_to: Cell,
     /// One entry per child, in order.
     pub children: Vec<CycleChild>,
+    /// Strategy `min-error`: the share of the cycle's predicted error that the
+    /// search's branch and bound left unproven (0: within
+    /// [`SEARCH_GAP`](crate::children::SEARCH_GAP) of the optimum over the AND
+    /// regions; NaN: three or more movers, coordinate descent).
+    pub search_gap: Option<f64>,
 }
 
 /// Why a cycle cannot be planned directly.
@@ -152,6 +157,7 @@ pub fn place_cycle(
         parent_from,
         parent_to,
         children: out,
+        search_gap: None,
     })
 }
 
@@ -181,6 +187,8 @@ pub(crate) mod tests {
                 d_t: 3.0,
                 clearance_cap: 5.0,
             },
+            strategy: crate::config::ChildStrategy::Balanced,
+            travel_weight: 0.01,
         }
     }
 

@@ -22,6 +22,9 @@ use std::collections::HashMap;
 use std::rc::Rc;
 use std::sync::Arc;
 
+use rand::SeedableRng;
+use rand_chacha::ChaCha8Rng;
+
 use super::and_region::ChildReach;
 use super::params::CycleParams;
 use crate::geom::Cell;
@@ -44,6 +47,8 @@ pub struct StepMaps<'k> {
     own_terrain: RefCell<HashMap<Cell, ChildReach>>,
     /// The sight tests of every view, built with the first view.
     sight: OnceCell<Rc<SightField>>,
+    /// The random choices of the step's child placements (strategy `random`).
+    rng: RefCell<ChaCha8Rng>,
 }
 
 impl<'k> StepMaps<'k> {
@@ -95,7 +100,19 @@ impl<'k> StepMaps<'k> {
             views: RefCell::default(),
             own_terrain: RefCell::default(),
             sight: OnceCell::new(),
+            rng: RefCell::new(ChaCha8Rng::seed_from_u64(0)),
         }
+    }
+
+    /// The maps with the random choices of the step seeded by `seed`.
+    pub fn seeded(self, seed: u64) -> Self {
+        *self.rng.borrow_mut() = ChaCha8Rng::seed_from_u64(seed);
+        self
+    }
+
+    /// The random generator of the step's child placements.
+    pub fn rng(&self) -> std::cell::RefMut<'_, ChaCha8Rng> {
+        self.rng.borrow_mut()
     }
 
     /// The knowledge map.

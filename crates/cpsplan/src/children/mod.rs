@@ -13,6 +13,8 @@
 //! - [`and_region()`], [`ChildReach`]: the AND region.
 //! - [`place_children`], [`Eq2`]: Eq. (2); [`clearances`]: its `1/P`.
 //! - [`place_cycle`], [`CpsCycle`]: one cycle.
+//! - [`place_random`], [`place_min_error`]: the strategies beyond Eq. (2)'s
+//!   weights (random spots; the spots that minimise the predicted error).
 
 mod and_region;
 mod clearance;
@@ -20,6 +22,7 @@ mod cycle;
 mod maps;
 mod params;
 mod placement;
+mod strategy;
 
 pub use and_region::{and_region, AndRegion, ChildReach};
 pub use clearance::clearances;
@@ -27,6 +30,7 @@ pub use cycle::{place_cycle, CpsCycle, CycleChild, CycleError};
 pub use maps::StepMaps;
 pub use params::CycleParams;
 pub use placement::{place_children, Eq2, Placement, Spot, EPS_D, EPS_THETA};
+pub use strategy::{place_min_error, place_random, SEARCH_GAP};
 
 #[cfg(test)]
 pub(crate) use cycle::tests::{params as test_params, plan_cycle as test_plan_cycle};

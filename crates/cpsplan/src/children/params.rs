@@ -2,7 +2,8 @@
 //! instrument's range limits and the weights of Eq. (2).
 
 use super::placement::Eq2;
-use crate::config::Config;
+use crate::accuracy::Instrument;
+use crate::config::{ChildStrategy, Config};
 use crate::sensing::LinkRule;
 
 /// Parameters of a cycle.
@@ -12,8 +13,13 @@ pub struct CycleParams {
     pub child_radius: f64,
     /// The instrument's range limits for parent–child links.
     pub link: LinkRule,
-    /// Eq. (2) weights and targets.
+    /// Eq. (2) weights and targets (already set for the strategy: `angle` and
+    /// `distance` divide the other weight by 100).
     pub eq2: Eq2,
+    /// How the children's spots are chosen.
+    pub strategy: ChildStrategy,
+    /// Strategy `min-error`: mm of predicted σ per metre of child travel.
+    pub travel_weight: f64,
 }
 
 impl CycleParams {
@@ -22,20 +28,37 @@ impl CycleParams {
     /// radians.
     pub fn from_config(config: &Config) -> Self {
         let c = &config.children;
+        let instrument = Instrument::from_config(&config.instrument);
         Self {
             child_radius: c.radius,
+            // The instrument's own limits bound the link too.
             link: LinkRule {
-                min: c.min_range,
-                max: c.max_range.unwrap_or(config.scanner.range),
+                min: c.min_range.max(instrument.min_range),
+                max: c
+                    .max_range
+                    .unwrap_or(config.scanner.range)
+                    .min(instrument.max_range),
                 clearance: c.sight_clearance,
             },
             eq2: Eq2 {
-                alpha_c: c.alpha_c,
-                beta_c: c.beta_c,
+                alpha_c: c.alpha_c
+                    * if c.strategy == ChildStrategy::Distance {
+                        0.01
+                    } else {
+                        1.0
+                    },
+                beta_c: c.beta_c
+                    * if c.strategy == ChildStrategy::Angle {
+                        0.01
+                    } else {
+                        1.0
+                    },
                 theta_t: c.theta_t_deg.to_radians(),
                 d_t: c.d_t,
                 clearance_cap: c.clearance_cap,
             },
+            strategy: c.strategy,
+            travel_weight: c.travel_weight,
         }
     }
 }

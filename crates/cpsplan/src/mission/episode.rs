@@ -7,6 +7,7 @@ use rand_chacha::ChaCha8Rng;
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
+use super::accuracy::Tracker;
 use super::record::MoveRecord;
 use super::team;
 use crate::config::{Config, ConfigError};
@@ -84,6 +85,19 @@ pub struct Step {
     pub plan: ParentPlan,
     /// The children's cells during the scan.
     pub children: Vec<Point>,
+    /// Predicted radial 1σ of the scan position, `sqrt(σx² + σy²)`, metres (the
+    /// CPS chain, first order, from the exactly known start; `None` without at
+    /// least two children).
+    pub position_sigma_m: Option<f64>,
+    /// The scan position's covariance `[[xx, xy], [xy, yy]]`, m².
+    pub covariance_m2: Option<[[f64; 2]; 2]>,
+    /// 1σ of the parent's heading (its instrument's horizontal circle) at the
+    /// scan, arc seconds.
+    pub heading_sigma_arcsec: Option<f64>,
+    /// With a Monte Carlo check: the mean radial error of the scan position over
+    /// the runs, metres.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub monte_carlo_error_m: Option<f64>,
     /// The move that followed: CPS cycles to the target (empty without children or
     /// when the mission stopped here).
     #[serde(rename = "move")]
@@ -136,6 +150,18 @@ pub struct Summary {
     pub subgoal_retrievals: usize,
     /// Total length of each child's driven paths, metres.
     pub child_travel_m: Vec<f64>,
+    /// The instrument of the CPS links (its preset's name).
+    pub instrument: String,
+    /// Predicted radial 1σ of the last scan position, metres (`None` without at
+    /// least two children).
+    pub final_position_sigma_m: Option<f64>,
+    /// That σ as a percentage of the parent's travel (the paper's figure of
+    /// merit: 0.034–0.054 % for CPS-VII, 0.0085 % for CPS-VIII).
+    pub error_percent_of_travel: Option<f64>,
+    /// Monte Carlo runs through the campaign's chain (0: none).
+    pub monte_carlo_runs: usize,
+    /// The Monte Carlo mean radial error of the last scan position, metres.
+    pub monte_carlo_mean_error_m: Option<f64>,
 }
 
 /// A whole simulated episode.
@@ -195,6 +221,7 @@ pub fn run_episode_with(
         });
     }
     let mut knowledge = OccupancyGrid::filled(g, CellState::Unknown);
+    let mut chain = Tracker::new(config, g.cell_center(cell));
     let mut tracker = CoverageTracker::new(&truth, cell, config.robot.radius, &knowledge);
     let mut rng = ChaCha8Rng::seed_from_u64(config.seed);
     let mut here = cell;
@@ -227,13 +254,20 @@ pub fn run_episode_with(
                     };
                     (record, Some(moved))
                 } else {
-                    team::execute_move(
-                        &knowledge, here, &children, &mut plan, reach, groundwork, config,
-                    )
+                    let team = team::Team {
+                        parent: here,
+                        children: &children,
+                        chain: chain.chain(),
+                    };
+                    team::execute_move(&knowledge, team, &mut plan, reach, groundwork, config)
                 }
             }
             _ => (MoveRecord::default(), None),
         };
+        let accuracy = chain.current();
+        let (mut movement, moved) = (movement, moved);
+        let executes = !at_limit && moved.is_some();
+        chain.follow(&mut movement, executes);
         let step = Step {
             scan: steps.len() + 1,
             position: g.cell_center(here),
@@ -243,6 +277,10 @@ pub fn run_episode_with(
             wall_coverage: tracker.wall_coverage(),
             parent_travel_m: travel,
             children: children.iter().map(|&c| g.cell_center(c)).collect(),
+            position_sigma_m: accuracy.map(|a| a.position_sigma_m),
+            covariance_m2: accuracy.map(|a| a.covariance_m2),
+            heading_sigma_arcsec: accuracy.map(|a| a.heading_sigma_arcsec),
+            monte_carlo_error_m: None,
             plan,
             movement,
         };
@@ -270,6 +308,15 @@ pub fn run_episode_with(
             }
         }
     };
+    let final_sigma = steps.last().and_then(|s| s.position_sigma_m);
+    let runs = config.accuracy.monte_carlo_runs;
+    let mc = chain.monte_carlo(runs, config.seed);
+    if let Some(errors) = &mc {
+        steps[0].monte_carlo_error_m = Some(0.0);
+        for (step, &e) in steps[1..].iter_mut().zip(errors) {
+            step.monte_carlo_error_m = Some(e);
+        }
+    }
     let summary = Summary {
         scans: steps.len(),
         coverage: tracker.coverage(),
@@ -281,6 +328,13 @@ pub fn run_episode_with(
         cps_cycles: cycles,
         subgoal_retrievals: retrievals,
         child_travel_m: child_travel,
+        instrument: config.instrument.model.name().to_string(),
+        final_position_sigma_m: final_sigma,
+        error_percent_of_travel: final_sigma
+            .filter(|_| travel > 0.0)
+            .map(|s| 100.0 * s / travel),
+        monte_carlo_runs: if mc.is_some() { runs } else { 0 },
+        monte_carlo_mean_error_m: mc.as_ref().and_then(|e| e.last().copied()),
     };
     Ok(Episode {
         config: *config,

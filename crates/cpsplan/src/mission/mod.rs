@@ -18,14 +18,16 @@
 //! - `team`: the CPS part of a step ([`Groundwork`], [`execute_move`]).
 //! - `record`: [`MoveRecord`] and the cycle records.
 
+mod accuracy;
 mod episode;
 mod record;
 mod step;
 mod team;
 
+pub use accuracy::{PoseAccuracy, Tracker};
 pub use episode::{
     parent_path, run_episode, run_episode_with, Episode, MissionError, Step, StopReason, Summary,
 };
 pub use record::{cycle_and_regions, ChildMove, CycleRecord, MoveRecord, RejectedTarget};
 pub use step::{plan_step, PlanError, StepPlan};
-pub use team::{execute_move, initial_children, plan_round, Groundwork, Moved};
+pub use team::{execute_move, initial_children, plan_round, Groundwork, Moved, Team};

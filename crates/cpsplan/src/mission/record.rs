@@ -44,6 +44,14 @@ pub struct CycleRecord {
     pub parent_path: Vec<Point>,
     /// Every child, in order.
     pub children: Vec<ChildMove>,
+    /// Predicted radial 1σ of the parent's position after the cycle, metres (the
+    /// CPS chain, first order; `None` without at least two children).
+    #[serde(default)]
+    pub position_sigma_m: Option<f64>,
+    /// Strategy `min-error`: the share of the cycle's predicted error its search
+    /// left unproven (0: within 2 % of the optimum over the AND regions).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub search_gap: Option<f64>,
 }
 
 /// A target the parent could not reach by CPS cycles.

@@ -6,6 +6,7 @@ use rand_chacha::ChaCha8Rng;
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
+use super::accuracy::Tracker;
 use super::record::MoveRecord;
 use super::team;
 use crate::config::{Config, ConfigError};
@@ -20,9 +21,14 @@ use crate::parent::{Decision, ParentPlan};
 pub struct StepPlan {
     /// The parent's planning round (candidates with their Eq. 1 terms, decision).
     pub plan: ParentPlan,
-    /// The move: target reached, subgoal flag, CPS cycles with every robot's path.
+    /// The move: target reached, subgoal flag, CPS cycles with every robot's path
+    /// and the predicted σ after each.
     #[serde(rename = "move")]
     pub movement: MoveRecord,
+    /// The predicted radial 1σ of the parent's position after the move, metres:
+    /// the error this move adds to a parent pose known exactly where it stands
+    /// (`None` without a move or without at least two children).
+    pub predicted_position_sigma_m: Option<f64>,
 }
 
 /// Why a single step cannot be planned.
@@ -104,18 +110,27 @@ pub fn plan_step(
     config.children.count = kids.len();
     let mut rng = ChaCha8Rng::seed_from_u64(config.seed);
     let (mut plan, reach, groundwork) = team::plan_round(knowledge, here, &config, &mut rng);
-    let movement = match plan.decision {
+    let mut tracker = Tracker::new(&config, g.cell_center(here));
+    let mut movement = match plan.decision {
         Decision::Target { index } if kids.is_empty() => MoveRecord {
             target: Some(index),
             ..MoveRecord::default()
         },
         Decision::Target { .. } => {
-            team::execute_move(
-                knowledge, here, &kids, &mut plan, reach, groundwork, &config,
-            )
-            .0
+            let team = team::Team {
+                parent: here,
+                children: &kids,
+                chain: tracker.chain(),
+            };
+            team::execute_move(knowledge, team, &mut plan, reach, groundwork, &config).0
         }
         _ => MoveRecord::default(),
     };
-    Ok(StepPlan { plan, movement })
+    tracker.follow(&mut movement, true);
+    let predicted_position_sigma_m = movement.cycles.last().and_then(|c| c.position_sigma_m);
+    Ok(StepPlan {
+        plan,
+        movement,
+        predicted_position_sigma_m,
+    })
 }

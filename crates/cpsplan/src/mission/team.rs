@@ -7,6 +7,7 @@
 use rand_chacha::ChaCha8Rng;
 
 use super::record::{ChildMove, CycleRecord, MoveRecord, RejectedTarget};
+use crate::accuracy::Chain;
 use crate::children::{CpsCycle, CycleParams, StepMaps};
 use crate::config::Config;
 use crate::geom::{polyline_length, Cell};
@@ -129,6 +130,17 @@ pub fn initial_children(knowledge: &OccupancyGrid, parent: Cell, config: &Config
     out
 }
 
+/// Where the team stands when a move is planned.
+#[derive(Debug, Clone, Copy)]
+pub struct Team<'a> {
+    /// The parent's cell.
+    pub parent: Cell,
+    /// The children's cells.
+    pub children: &'a [Cell],
+    /// The CPS chain there (`None`: accuracy not tracked).
+    pub chain: Option<&'a Chain>,
+}
+
 /// Where a move left the robots and how far they drove.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Moved {
@@ -156,13 +168,17 @@ pub struct Moved {
 /// the robots ended up; `None` when nothing can be reached.
 pub fn execute_move(
     knowledge: &OccupancyGrid,
-    here: Cell,
-    children: &[Cell],
+    team: Team,
     plan: &mut ParentPlan,
     reach: ParentReach,
     groundwork: Option<Groundwork>,
     config: &Config,
 ) -> (MoveRecord, Option<Moved>) {
+    let Team {
+        parent: here,
+        children,
+        chain,
+    } = team;
     let params = CycleParams::from_config(config);
     let Groundwork {
         child_terrain,
@@ -171,12 +187,16 @@ pub fn execute_move(
         .unwrap_or_else(|| Groundwork::new(knowledge, here, config.robot.radius, &params));
     let ParentReach { trav, field } = reach;
     let parent_terrain = Terrain::from_sweep(trav, &field);
-    let maps = StepMaps::assemble(knowledge, parent_terrain, child_terrain, &params);
+    // The random choices of the step's placements follow the seed and the state.
+    let seed =
+        config.seed ^ ((here.y as u64) << 32 | here.x as u64).wrapping_mul(0x9e37_79b9_7f4a_7c15);
+    let maps = StepMaps::assemble(knowledge, parent_terrain, child_terrain, &params).seeded(seed);
     let retrieval = Retrieval::new(&maps);
     let step = TeamStep {
         maps: &maps,
         roads: &roads,
         retrieval: &retrieval,
+        chain,
     };
     let mut order: Vec<usize> = (0..plan.candidates.len())
         .filter(|&i| plan.candidates[i].eligible)
@@ -307,6 +327,8 @@ fn cycle_record(step: &TeamStep, cycle: &CpsCycle) -> (CycleRecord, f64) {
             parent_to: g.cell_center(cycle.parent_to),
             parent_path,
             children,
+            position_sigma_m: None,
+            search_gap: cycle.search_gap.filter(|g| g.is_finite()),
         },
         length,
     )
@@ -318,6 +340,8 @@ struct TeamStep<'s, 'k> {
     maps: &'s StepMaps<'k>,
     roads: &'s Roads,
     retrieval: &'s Retrieval<'s, 'k>,
+    /// The CPS chain where the step begins.
+    chain: Option<&'s Chain>,
 }
 
 impl TeamStep<'_, '_> {
@@ -325,7 +349,7 @@ impl TeamStep<'_, '_> {
     /// that cannot drive to its spot rejects the move as stuck where its cycle
     /// starts.
     fn plan_move(&self, from: Cell, to: Cell, children: &[Cell]) -> Result<MovePlan, MoveError> {
-        let mut plan = self.retrieval.plan_move(from, to, children)?;
+        let mut plan = self.retrieval.plan_move(from, to, children, self.chain)?;
         self.roads
             .drive(self.maps, &mut plan)
             .map_err(|e| MoveError::Stuck { at: e.parent_from })?;

@@ -25,7 +25,12 @@ use std::cell::OnceCell;
 use thiserror::Error;
 
 use super::visgraph::VisibilityGraph;
-use crate::children::{place_cycle, ChildReach, CpsCycle, CycleError, CycleParams, StepMaps};
+use crate::accuracy::Chain;
+use crate::children::{
+    place_cycle, place_min_error, place_random, ChildReach, CpsCycle, CycleError, CycleParams,
+    StepMaps,
+};
+use crate::config::ChildStrategy;
 use crate::geom::Cell;
 use crate::grid::OccupancyGrid;
 
@@ -73,7 +78,7 @@ pub fn plan_move(
     params: &CycleParams,
 ) -> Result<MovePlan, MoveError> {
     let maps = StepMaps::new(knowledge, from, parent_radius, params);
-    Retrieval::new(&maps).plan_move(from, to, children)
+    Retrieval::new(&maps).plan_move(from, to, children, None)
 }
 
 /// Subgoal retrieval on one step's maps: the moves to every candidate of the step
@@ -101,14 +106,18 @@ impl<'m, 'k> Retrieval<'m, 'k> {
         })
     }
 
-    /// [`plan_move`] on the step's shared maps.
+    /// [`plan_move`] on the step's shared maps; `chain` is the CPS chain at the
+    /// start of the move (strategy `min-error` needs it: without it, the Eq. (2)
+    /// spots are kept).
     pub fn plan_move(
         &self,
         from: Cell,
         to: Cell,
         children: &[Cell],
+        chain: Option<&Chain>,
     ) -> Result<MovePlan, MoveError> {
-        retrieve(self, from, to, children)
+        let mut chain = chain.cloned();
+        retrieve(self, from, to, children, &mut chain)
     }
 }
 
@@ -118,8 +127,36 @@ fn retrieve(
     from: Cell,
     to: Cell,
     children: &[Cell],
+    chain: &mut Option<Chain>,
 ) -> Result<MovePlan, MoveError> {
     let maps = retrieval.maps;
+    // The legs are found with the Eq. (2) spots (cheap, and feasible exactly when
+    // any spots are); the leg taken then gets the strategy's spots.
+    let finish = |cycle: CpsCycle, reach: &[ChildReach], chain: &mut Option<Chain>| {
+        let placed = match maps.params().strategy {
+            ChildStrategy::Random => place_random(maps, &cycle, reach, &mut maps.rng()),
+            ChildStrategy::MinError => chain
+                .as_ref()
+                .and_then(|c| place_min_error(maps, &cycle, reach, c, maps.params().travel_weight))
+                .unwrap_or(cycle),
+            _ => cycle,
+        };
+        if let Some(c) = chain.as_mut() {
+            let g = maps.knowledge().geometry();
+            let kids: Vec<_> = placed
+                .children
+                .iter()
+                .map(|k| g.cell_center(k.to))
+                .collect();
+            let moved: Vec<bool> = placed.children.iter().map(|k| !k.stays).collect();
+            if c.cycle(g.cell_center(placed.parent_to), &kids, &moved)
+                .is_err()
+            {
+                *chain = None;
+            }
+        }
+        placed
+    };
     let done = |cycles: Vec<CpsCycle>, graph_path: Vec<Cell>| -> Result<MovePlan, MoveError> {
         Ok(MovePlan {
             cycles,
@@ -139,7 +176,7 @@ fn retrieve(
     }
     // Step 1.
     match place_cycle(maps, from, to, children, &reach) {
-        Ok(cycle) => return done(vec![cycle], Vec::new()),
+        Ok(cycle) => return done(vec![finish(cycle, &reach, chain)], Vec::new()),
         Err(CycleError::NoAndRegion { .. } | CycleError::NoJointPlacement) => {}
     }
     // Step 2. No drivable path at all means no Visibility Graph path either (its
@@ -199,6 +236,7 @@ fn retrieve(
         let Some((j, cycle)) = next else {
             return Err(MoveError::Stuck { at: path[here] });
         };
+        let cycle = finish(cycle, &reach, chain);
         kids = cycle.children.iter().map(|c| c.to).collect();
         reach = reach_of(&kids);
         cycles.push(cycle);

@@ -1,0 +1,361 @@
+//! Line charts of per-scan figures (the predicted positioning error against the
+//! scan number), drawn once through a small surface trait onto a PNG canvas or
+//! into SVG text, so that both files show the same picture.
+
+use std::fmt::Write as _;
+
+use tiny_skia::PathBuilder;
+
+use super::canvas::{text_width, Canvas, Rgb};
+use super::palette;
+use super::RenderError;
+
+/// One series of a chart.
+#[derive(Debug, Clone)]
+pub struct Series {
+    /// Legend label.
+    pub label: String,
+    /// Points `(x, y)`, in order of `x`.
+    pub points: Vec<(f64, f64)>,
+    /// Line colour.
+    pub colour: (u8, u8, u8),
+    /// Dashed line.
+    pub dashed: bool,
+}
+
+/// A line chart.
+#[derive(Debug, Clone)]
+pub struct Chart {
+    /// Title line.
+    pub title: String,
+    /// Second line under the title.
+    pub subtitle: String,
+    /// The x axis label.
+    pub x_label: String,
+    /// The y axis label.
+    pub y_label: String,
+    /// The series.
+    pub series: Vec<Series>,
+}
+
+/// What a chart is drawn on.
+trait Surface {
+    fn rect(&mut self, x: f64, y: f64, w: f64, h: f64, c: Rgb);
+    fn polyline(&mut self, points: &[(f64, f64)], c: Rgb, width: f64, dashed: bool);
+    /// `anchor`: 0 left, 1 centre, 2 right; `y` is the text's top.
+    fn text(&mut self, x: f64, y: f64, text: &str, size: u32, c: Rgb, anchor: u8);
+}
+
+const WIDTH: f64 = 1200.0;
+const HEIGHT: f64 = 720.0;
+/// Glyph scale of body text (8-pixel glyphs).
+const TEXT: u32 = 2;
+
+/// "Nice" tick values covering `lo..hi`: about `n` steps of 1, 2 or 5 × 10^k.
+fn ticks(lo: f64, hi: f64, n: usize) -> Vec<f64> {
+    let span = (hi - lo).max(1e-12);
+    let raw = span / n.max(1) as f64;
+    let mag = 10f64.powf(raw.log10().floor());
+    let step = [1.0, 2.0, 5.0, 10.0]
+        .iter()
+        .map(|m| m * mag)
+        .find(|s| *s >= raw)
+        .unwrap_or(10.0 * mag);
+    let first = (lo / step).ceil() * step;
+    let mut out = Vec::new();
+    let mut v = first;
+    while v <= hi + 1e-9 * step && out.len() < 50 {
+        out.push(if v.abs() < 1e-12 * step { 0.0 } else { v });
+        v += step;
+    }
+    out
+}
+
+fn label(v: f64) -> String {
+    let s = format!("{v:.3}");
+    let s = s.trim_end_matches('0').trim_end_matches('.');
+    if s.is_empty() || s == "-0" {
+        "0".into()
+    } else {
+        s.into()
+    }
+}
+
+impl Chart {
+    fn draw(&self, s: &mut impl Surface) {
+        let white = Rgb::hex(0xffffff);
+        s.rect(0.0, 0.0, WIDTH, HEIGHT, white);
+        s.text(40.0, 20.0, &self.title, 3, palette::TEXT, 0);
+        s.text(40.0, 56.0, &self.subtitle, TEXT, palette::MUTED_TEXT, 0);
+        let (x0, y0, x1, y1) = (110.0, 150.0, WIDTH - 40.0, HEIGHT - 90.0);
+        let all: Vec<(f64, f64)> = self
+            .series
+            .iter()
+            .flat_map(|s| s.points.iter().copied())
+            .filter(|p| p.0.is_finite() && p.1.is_finite())
+            .collect();
+        let (mut xl, mut xh) = all
+            .iter()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), p| {
+                (a.min(p.0), b.max(p.0))
+            });
+        let mut yh = all.iter().fold(0.0f64, |a, p| a.max(p.1));
+        if xl.is_nan() || xh.is_nan() || xl >= xh {
+            xl = 0.0;
+            xh = xl + 1.0;
+        }
+        if yh.is_nan() || yh <= 0.0 {
+            yh = 1.0;
+        }
+        let yticks = ticks(0.0, yh * 1.05, 6);
+        let ytop = yticks.last().copied().unwrap_or(yh).max(yh);
+        let px = |x: f64| x0 + (x - xl) / (xh - xl) * (x1 - x0);
+        let py = |y: f64| y1 - y / ytop * (y1 - y0);
+        for &t in &yticks {
+            s.polyline(&[(x0, py(t)), (x1, py(t))], palette::RULE, 1.0, false);
+            s.text(
+                x0 - 12.0,
+                py(t) - 8.0,
+                &label(t),
+                TEXT,
+                palette::MUTED_TEXT,
+                2,
+            );
+        }
+        for t in ticks(xl, xh, 10) {
+            s.polyline(
+                &[(px(t), y1), (px(t), y1 + 8.0)],
+                palette::MUTED_TEXT,
+                1.0,
+                false,
+            );
+            s.text(px(t), y1 + 14.0, &label(t), TEXT, palette::MUTED_TEXT, 1);
+        }
+        s.polyline(&[(x0, y0), (x0, y1), (x1, y1)], palette::TEXT, 1.5, false);
+        s.text(
+            (x0 + x1) / 2.0,
+            HEIGHT - 44.0,
+            &self.x_label,
+            TEXT,
+            palette::TEXT,
+            1,
+        );
+        s.text(x0 - 70.0, y0 - 34.0, &self.y_label, TEXT, palette::TEXT, 0);
+        let mut lx = 40.0;
+        for series in &self.series {
+            let c = Rgb(series.colour.0, series.colour.1, series.colour.2);
+            let pts: Vec<(f64, f64)> = series
+                .points
+                .iter()
+                .filter(|p| p.0.is_finite() && p.1.is_finite())
+                .map(|&(x, y)| (px(x), py(y)))
+                .collect();
+            s.polyline(&pts, c, 3.0, series.dashed);
+            // Legend entry in a row under the subtitle.
+            let ly = 96.0;
+            s.polyline(&[(lx, ly), (lx + 36.0, ly)], c, 3.0, series.dashed);
+            s.text(lx + 44.0, ly - 8.0, &series.label, TEXT, palette::TEXT, 0);
+            lx += 80.0 + text_width(&series.label, TEXT) as f64;
+        }
+    }
+
+    /// The chart as PNG.
+    pub fn png(&self) -> Result<Vec<u8>, RenderError> {
+        let mut canvas = Canvas::new(WIDTH as u32, HEIGHT as u32)?;
+        self.draw(&mut canvas);
+        canvas.encode()
+    }
+
+    /// The chart as an SVG document.
+    pub fn svg(&self) -> String {
+        let mut svg = Svg(String::new());
+        let _ = writeln!(
+            svg.0,
+            "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{WIDTH}\" height=\"{HEIGHT}\" \
+             viewBox=\"0 0 {WIDTH} {HEIGHT}\" font-family=\"DejaVu Sans Mono, monospace\">"
+        );
+        self.draw(&mut svg);
+        svg.0.push_str("</svg>\n");
+        svg.0
+    }
+}
+
+impl Surface for Canvas {
+    fn rect(&mut self, x: f64, y: f64, w: f64, h: f64, c: Rgb) {
+        self.fill_rect(x as i64, y as i64, w as i64, h as i64, c);
+    }
+
+    fn polyline(&mut self, points: &[(f64, f64)], c: Rgb, width: f64, dashed: bool) {
+        let Some((first, rest)) = points.split_first() else {
+            return;
+        };
+        let mut pb = PathBuilder::new();
+        pb.move_to(first.0 as f32, first.1 as f32);
+        for p in rest {
+            pb.line_to(p.0 as f32, p.1 as f32);
+        }
+        if let Some(path) = pb.finish() {
+            if dashed {
+                self.stroke_dashed(&path, c, 255, width as f32, 10.0);
+            } else {
+                self.stroke_path(&path, c, 255, width as f32);
+            }
+        }
+    }
+
+    fn text(&mut self, x: f64, y: f64, text: &str, size: u32, c: Rgb, anchor: u8) {
+        let w = text_width(text, size);
+        let x = match anchor {
+            1 => x as i64 - w / 2,
+            2 => x as i64 - w,
+            _ => x as i64,
+        };
+        Canvas::text(self, x, y as i64, text, size, c);
+    }
+}
+
+/// An SVG document being written.
+struct Svg(String);
+
+fn hex(c: Rgb) -> String {
+    format!("#{:02x}{:02x}{:02x}", c.0, c.1, c.2)
+}
+
+fn escape(text: &str) -> String {
+    text.replace('&', "&amp;")
+        .replace('<', "&lt;")
+        .replace('>', "&gt;")
+        .replace('"', "&quot;")
+}
+
+impl Surface for Svg {
+    fn rect(&mut self, x: f64, y: f64, w: f64, h: f64, c: Rgb) {
+        let _ = writeln!(
+            self.0,
+            "<rect x=\"{x:.1}\" y=\"{y:.1}\" width=\"{w:.1}\" height=\"{h:.1}\" fill=\"{}\"/>",
+            hex(c)
+        );
+    }
+
+    fn polyline(&mut self, points: &[(f64, f64)], c: Rgb, width: f64, dashed: bool) {
+        if points.len() < 2 {
+            return;
+        }
+        let pts: Vec<String> = points
+            .iter()
+            .map(|p| format!("{:.1},{:.1}", p.0, p.1))
+            .collect();
+        let dash = if dashed {
+            " stroke-dasharray=\"10 10\""
+        } else {
+            ""
+        };
+        let _ = writeln!(
+            self.0,
+            "<polyline points=\"{}\" fill=\"none\" stroke=\"{}\" stroke-width=\"{width}\" \
+             stroke-linejoin=\"round\"{dash}/>",
+            pts.join(" "),
+            hex(c)
+        );
+    }
+
+    fn text(&mut self, x: f64, y: f64, text: &str, size: u32, c: Rgb, anchor: u8) {
+        let anchor = ["start", "middle", "end"][usize::from(anchor.min(2))];
+        // Bitmap glyphs are 8 px tall at scale 1; the baseline sits near 7/8.
+        let px = 8 * size;
+        let _ = writeln!(
+            self.0,
+            "<text x=\"{x:.1}\" y=\"{:.1}\" font-size=\"{px}\" fill=\"{}\" text-anchor=\"{anchor}\">{}</text>",
+            y + 0.85 * px as f64,
+            hex(c),
+            escape(text)
+        );
+    }
+}
+
+/// The chart of an episode's positioning error against the scan number: the
+/// predicted radial 1σ of every scan position and, when run, the Monte Carlo mean
+/// error; `None` without predictions (fewer than two children).
+pub fn error_chart(episode: &cpsplan::Episode, title: &str) -> Option<Chart> {
+    let predicted: Vec<(f64, f64)> = episode
+        .steps
+        .iter()
+        .filter_map(|s| s.position_sigma_m.map(|v| (s.scan as f64, v * 1e3)))
+        .collect();
+    if predicted.len() < 2 {
+        return None;
+    }
+    let mut series = vec![Series {
+        label: "predicted 1\u{3c3} (first order)".into(),
+        points: predicted,
+        colour: (0x6a, 0x3d, 0x9a),
+        dashed: false,
+    }];
+    let mc: Vec<(f64, f64)> = episode
+        .steps
+        .iter()
+        .filter_map(|s| s.monte_carlo_error_m.map(|v| (s.scan as f64, v * 1e3)))
+        .collect();
+    let s = &episode.summary;
+    if !mc.is_empty() {
+        series.push(Series {
+            label: format!("Monte Carlo mean error ({} runs)", s.monte_carlo_runs),
+            points: mc,
+            colour: (0xd6, 0x27, 0x28),
+            dashed: true,
+        });
+    }
+    let c = &episode.config.children;
+    let subtitle = format!(
+        "{} \u{b7} strategy {} \u{b7} final {:.1} mm after {:.0} m \u{b7} {:.4} % of travel",
+        s.instrument,
+        c.strategy.name(),
+        s.final_position_sigma_m.unwrap_or(f64::NAN) * 1e3,
+        s.parent_travel_m,
+        s.error_percent_of_travel.unwrap_or(f64::NAN)
+    );
+    Some(Chart {
+        title: title.to_string(),
+        subtitle,
+        x_label: "scan".into(),
+        y_label: "position error of the scan, mm".into(),
+        series,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn chart() -> Chart {
+        Chart {
+            title: "error <test> & more".into(),
+            subtitle: "sub".into(),
+            x_label: "scan".into(),
+            y_label: "mm".into(),
+            series: vec![Series {
+                label: "predicted".into(),
+                points: (1..=10).map(|i| (i as f64, (i as f64).sqrt())).collect(),
+                colour: (31, 119, 180),
+                dashed: false,
+            }],
+        }
+    }
+
+    #[test]
+    fn png_and_svg_are_well_formed() {
+        let png = chart().png().unwrap();
+        let pic = tiny_skia::Pixmap::decode_png(&png).unwrap();
+        assert_eq!((pic.width(), pic.height()), (1200, 720));
+        let svg = chart().svg();
+        assert!(svg.starts_with("<svg") && svg.trim_end().ends_with("</svg>"));
+        assert!(svg.contains("&lt;test&gt; &amp; more"));
+        assert!(svg.contains("<polyline"));
+    }
+
+    #[test]
+    fn ticks_are_round() {
+        assert_eq!(ticks(0.0, 10.0, 5), vec![0.0, 2.0, 4.0, 6.0, 8.0, 10.0]);
+        assert_eq!(label(0.30000000000000004), "0.3");
+    }
+}

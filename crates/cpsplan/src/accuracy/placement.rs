@@ -1,0 +1,252 @@
+//! What a placement of the children costs in accuracy: the predicted covariance of
+//! the parent's next pose as a function of where the moving children stand, in a
+//! form cheap enough to search (the children's `min-error` strategy).
+//!
+//! In: the chain before a cycle, the parent's next position, which children stay.
+//! Out: an [`Objective`]: for each spot a moving child might take, its 3×3
+//! information `J(c)` about the next pose, and for any sum of them the predicted
+//! `σx² + σy² + L²·σω²` of the next pose (`L`: the cycle's leg, so that a heading
+//! error counts as the position error it causes over one more such leg).
+//!
+//! # Why the movers add up
+//!
+//! A moving child's new point is measured from the current station `p`; an error
+//! `δp` of that station moves the point rigidly with it, and a rigid motion of the
+//! station and its points moves the next station `u` rigidly too (`δu = G·δp`)
+//! without changing any measurement from it. So in the coordinates
+//! `u' = u − G·p` a mover's measurements inform `u'` alone, through the noise of
+//! its own two measurements: an information `J(c) = H_uᵀ N⁻¹ H_u` with
+//! `N = H_c F_z R_p F_zᵀ H_cᵀ + R_u`. The staying children and the prior of
+//! `(p, stayers)` give constants, and marginalising them out:
+//!
+//! ```text
+//! Σ_u(J) = (I − D)(J + K)⁻¹(I − D)ᵀ + Q,   J = Σ over movers of J(c)
+//! ```
+//!
+//! with `K`, `D`, `Q` fixed 3×3 matrices (docs/ACCURACY.md). The objective
+//! `tr(W Σ_u)` is therefore `tr(V (J + K)⁻¹) + const`, decreasing in `J` in the
+//! Löwner order, which a branch and bound can use. Planar model (in 3D mode the
+//! horizontal part is what the children's placement decides).
+
+use nalgebra::{DMatrix, Matrix2, Matrix2x3, Matrix3};
+
+use super::chain::Chain;
+use super::instrument::Instrument;
+use super::model::Model;
+use crate::geom::Point;
+
+/// The cost of the next pose as a function of the movers' information.
+#[derive(Debug, Clone)]
+pub struct Objective {
+    model: Model,
+    from: Point,
+    to: Point,
+    k: Matrix3<f64>,
+    v: Matrix3<f64>,
+    constant: f64,
+}
+
+impl Objective {
+    /// The objective of the cycle that takes the parent of `chain` to `to` with the
+    /// children `stayers` keeping their points (each measured already) and the
+    /// others moving. `None` when a stayer has no point yet.
+    pub fn new(chain: &Chain, to: Point, stayers: &[usize]) -> Option<Objective> {
+        let mut inst: Instrument = chain.model().instrument;
+        inst.three_d = false;
+        let model = Model::new(inst);
+        let cm = chain.model();
+        let (ds, dp) = (cm.station_dim(), cm.point_dim());
+        let from = chain.position();
+        let points = chain.points();
+        let full = chain.covariance();
+        // The planar prior of (p, stayers): station x, y, ω and each stayer's x, y.
+        let mut index = vec![0, 1, ds - 1];
+        for &s in stayers {
+            points.get(s).copied().flatten()?;
+            let o = ds + s * dp;
+            index.extend([o, o + 1]);
+        }
+        let dr = index.len();
+        let prior = DMatrix::from_fn(dr, dr, |i, j| full[(index[i], index[j])]);
+        let g = rigid(from, to);
+        // The stayers' information on (u', r').
+        let u = [to.x, to.y, 0.0];
+        let mut s = DMatrix::zeros(3 + dr, 3 + dr);
+        for (k, &st) in stayers.iter().enumerate() {
+            let c = points[st]?;
+            let (hu, hc) = model.jacobians(&u, &[c.x, c.y]);
+            let w = model.noise(&u, &[c.x, c.y]).try_inverse()?;
+            let mut row = DMatrix::zeros(2, 3 + dr);
+            row.view_mut((0, 0), (2, 3)).copy_from(&hu);
+            let hug = &hu * dm3(&g);
+            row.view_mut((0, 3), (2, 3)).copy_from(&hug);
+            row.view_mut((0, 3 + 3 + 2 * k), (2, 2)).copy_from(&hc);
+            s += row.transpose() * w * row;
+        }
+        let a = m3(&s.view((0, 0), (3, 3)).into_owned());
+        let b = s.view((0, 3), (3, dr)).into_owned();
+        let srr = s.view((3, 3), (dr, dr)).into_owned();
+        // C⁻¹ = P (I + S_rr P)⁻¹, no inverse of the (possibly exact) prior.
+        let c_inv = &prior * (DMatrix::identity(dr, dr) + &srr * &prior).try_inverse()?;
+        let mut t = DMatrix::zeros(3, dr);
+        t.view_mut((0, 0), (3, 3)).copy_from(&dm3(&g));
+        let k = a - m3(&(&b * &c_inv * b.transpose()));
+        let d = m3(&(&t * &c_inv * b.transpose()));
+        let q = m3(&(&t * &c_inv * t.transpose()));
+        let leg2 = (to.x - from.x).powi(2) + (to.y - from.y).powi(2);
+        let w = Matrix3::from_diagonal(&nalgebra::Vector3::new(1.0, 1.0, leg2));
+        let i_d = Matrix3::identity() - d;
+        let v = i_d.transpose() * w * i_d;
+        Some(Objective {
+            model,
+            from,
+            to,
+            k,
+            v,
+            constant: (w * q).trace(),
+        })
+    }
+
+    /// The information about the next pose of a moving child at `c`: its point
+    /// measured from the current station, then measured from the next.
+    pub fn mover_info(&self, c: Point) -> Matrix3<f64> {
+        let m = &self.model;
+        let p = [self.from.x, self.from.y, 0.0];
+        let u = [self.to.x, self.to.y, 0.0];
+        let cc = [c.x, c.y];
+        let zp = m.observe(&p, &cc);
+        let (_, fz) = m.forward_jacobians(&p, zp.as_slice());
+        let rp = m2(&m.noise(&p, &cc));
+        let (hu, hc) = m.jacobians(&u, &cc);
+        let (hu, hc, fz) = (m23(&hu), m2(&hc), m2(&fz));
+        let ru = m2(&m.noise(&u, &cc));
+        let n = hc * fz * rp * fz.transpose() * hc.transpose() + ru;
+        match n.try_inverse() {
+            Some(ni) => hu.transpose() * ni * hu,
+            None => Matrix3::zeros(),
+        }
+    }
+
+    /// The square root of what no placement can remove: the value with infinitely
+    /// informative movers (the error the pose inherits), metres.
+    pub fn floor(&self) -> f64 {
+        self.constant.max(0.0).sqrt()
+    }
+
+    /// The predicted `σx² + σy² + L²·σω²` of the next pose when the movers'
+    /// information adds up to `j` (`+∞` when it does not fix the pose).
+    pub fn value(&self, j: &Matrix3<f64>) -> f64 {
+        let m = j + self.k;
+        // Scaled to a unit diagonal, the information must be safely definite: a
+        // geometry that nearly fails to fix the pose is as good as failing.
+        let d = m
+            .diagonal()
+            .map(|x| if x > 0.0 { 1.0 / x.sqrt() } else { 0.0 });
+        let scaled = Matrix3::from_fn(|a, b| m[(a, b)] * d[a] * d[b]);
+        let Some(c) = scaled.cholesky() else {
+            return f64::INFINITY;
+        };
+        let l = c.l();
+        let min_pivot = (0..3).map(|k| l[(k, k)]).fold(f64::INFINITY, f64::min);
+        if min_pivot.is_nan() || min_pivot <= 1e-7 {
+            return f64::INFINITY;
+        }
+        let inv_scaled = c.inverse();
+        let x = Matrix3::from_fn(|a, b| inv_scaled[(a, b)] * d[a] * d[b]);
+        let v = (self.v * x).trace() + self.constant;
+        if v.is_finite() && v >= 0.0 {
+            v
+        } else {
+            f64::INFINITY
+        }
+    }
+}
+
+/// `δu = G·δp`: how the next station moves with a rigid motion of the current one.
+fn rigid(from: Point, to: Point) -> Matrix3<f64> {
+    Matrix3::new(
+        1.0,
+        0.0,
+        -(to.y - from.y),
+        0.0,
+        1.0,
+        to.x - from.x,
+        0.0,
+        0.0,
+        1.0,
+    )
+}
+
+fn m3(m: &DMatrix<f64>) -> Matrix3<f64> {
+    Matrix3::from_fn(|i, j| m[(i, j)])
+}
+
+fn dm3(m: &Matrix3<f64>) -> DMatrix<f64> {
+    DMatrix::from_fn(3, 3, |i, j| m[(i, j)])
+}
+
+fn m2(m: &DMatrix<f64>) -> Matrix2<f64> {
+    Matrix2::from_fn(|i, j| m[(i, j)])
+}
+
+fn m23(m: &DMatrix<f64>) -> Matrix2x3<f64> {
+    Matrix2x3::from_fn(|i, j| m[(i, j)])
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::config::InstrumentConfig;
+    use proptest::prelude::*;
+
+    fn model() -> Model {
+        Model::new(Instrument::from_config(&InstrumentConfig::default()))
+    }
+
+    /// `σx² + σy² + L²·σω²` of the chain's pose after a leg from `from`.
+    fn cost(chain: &Chain, from: Point) -> f64 {
+        let p = chain.pose();
+        let to = chain.position();
+        let leg2 = (to.x - from.x).powi(2) + (to.y - from.y).powi(2);
+        p.xx + p.yy + leg2 * p.heading
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig { cases: 100, ..ProptestConfig::default() })]
+
+        /// The objective equals the propagated chain, whatever stays and moves.
+        #[test]
+        fn objective_equals_the_chain(
+            first in proptest::collection::vec((-15.0f64..15.0, -15.0f64..15.0), 3),
+            to1 in (-15.0f64..15.0, -15.0f64..15.0),
+            to2 in (-15.0f64..15.0, -15.0f64..15.0),
+            next in proptest::collection::vec((-15.0f64..15.0, -15.0f64..15.0), 3),
+            stay in proptest::collection::vec(any::<bool>(), 3),
+        ) {
+            let pt = |p: (f64, f64)| Point::new(p.0, p.1);
+            let start = Point::new(0.0, 0.0);
+            let kids: Vec<Point> = first.iter().map(|&p| pt(p)).collect();
+            let (to1, to2) = (pt(to1), pt(to2));
+            let far = |c: &Point, s: Point| c.distance(s) > 1.5;
+            prop_assume!(kids.iter().all(|c| far(c, start) && far(c, to1) && far(c, to2)));
+            let mut chain = Chain::new(model(), start, 3);
+            prop_assume!(chain.cycle(to1, &kids, &[true; 3]).is_ok());
+            let stayers: Vec<usize> = (0..3).filter(|&i| stay[i]).collect();
+            let moved: Vec<bool> = stay.iter().map(|s| !s).collect();
+            let spots: Vec<Point> = (0..3).map(|i| if stay[i] { kids[i] } else { pt(next[i]) }).collect();
+            prop_assume!(spots.iter().all(|c| far(c, to1) && far(c, to2)));
+            let objective = Objective::new(&chain, to2, &stayers).unwrap();
+            let mut j = Matrix3::zeros();
+            for i in 0..3 {
+                if !stay[i] {
+                    j += objective.mover_info(spots[i]);
+                }
+            }
+            let predicted = objective.value(&j);
+            let mut after = chain.clone();
+            prop_assume!(after.cycle(to2, &spots, &moved).is_ok());
+            let exact = cost(&after, to1);
+            prop_assert!(((predicted - exact) / exact).abs() < 1e-6, "{} vs {}", predicted, exact);
+        }
+    }
+}
