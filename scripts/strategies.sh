@@ -9,6 +9,7 @@ cd "$(dirname "$0")/.."
 out=${OUT:-/tmp/cpsplan-strategies}
 seeds=${SEEDS:-20}
 cargo build --release --quiet
+bin=${BIN:-target/release/cpsplan}
 jobs=()
 for map in site office tunnel; do
   for strategy in random balanced angle distance min-error; do
@@ -18,7 +19,7 @@ for map in site office tunnel; do
   done
 done
 printf '%s\n' "${jobs[@]}" | xargs -P "${JOBS:-2}" -L 1 sh -c '
-  target/release/cpsplan explore --quiet --builtin "$0" --child-strategy "$1" --seed "$2" \
+  '"$bin"' explore --quiet --builtin "$0" --child-strategy "$1" --seed "$2" \
     --max-scans 10 --out "'"$out"'/$0-$1-$2" '"$*"' || echo "failed: $0 $1 $2" >&2'
 python3 - "$out" "$seeds" <<'PY'
 import json, statistics as st, sys

@@ -24,7 +24,9 @@ use criterion::{criterion_group, criterion_main, BenchmarkGroup, Criterion};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
+use cpsplan::accuracy::{Chain, Instrument, Model, Objective};
 use cpsplan::children::{and_region, ChildReach, CycleParams};
+use cpsplan::config::ChildStrategy;
 use cpsplan::geom::{Cell, Point};
 use cpsplan::grid::travel::sweep;
 use cpsplan::grid::{Traversability, UNREACHED};
@@ -240,6 +242,11 @@ fn team(c: &mut Criterion) {
         group.bench_function(format!("plan_step_{name}"), |b| {
             b.iter(|| plan_step(black_box(k), s.parent, &s.children, &config).expect("plan"))
         });
+        let mut min_error = config;
+        min_error.children.strategy = ChildStrategy::MinError;
+        group.bench_function(format!("plan_step_{name}_min_error"), |b| {
+            b.iter(|| plan_step(black_box(k), s.parent, &s.children, &min_error).expect("plan"))
+        });
         if retrieved {
             let trav = Traversability::new(k, config.robot.radius, parent);
             group.bench_function("visibility_graph", |b| {
@@ -265,5 +272,35 @@ fn team(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, stages, late_stages, episode, team);
+/// The CPS chain: one cycle of the first-order propagation (two children), and
+/// one evaluation of the min-error objective.
+fn accuracy(c: &mut Criterion) {
+    let model = Model::new(Instrument::from_config(&Config::default().instrument));
+    let mut group = c.benchmark_group("accuracy");
+    group
+        .sample_size(50)
+        .warm_up_time(Duration::from_millis(300))
+        .measurement_time(Duration::from_secs(2));
+    let mut chain = Chain::new(model, Point::new(0.0, 0.0), 2);
+    chain
+        .cycle(Point::new(10.0, 0.0), &[Point::new(5.0, 4.0), Point::new(5.0, -4.0)], &[true, true])
+        .expect("cycle");
+    let kids = [Point::new(14.0, 5.0), Point::new(15.0, -4.0)];
+    group.bench_function("chain_cycle", |b| {
+        b.iter(|| {
+            let mut c = chain.clone();
+            c.cycle(black_box(Point::new(20.0, 1.0)), &kids, &[true, true])
+                .expect("cycle")
+        })
+    });
+    let objective = Objective::new(&chain, Point::new(20.0, 1.0), &[]).expect("objective");
+    let j = objective.mover_info(kids[0]) + objective.mover_info(kids[1]);
+    group.bench_function("objective_value", |b| b.iter(|| objective.value(black_box(&j))));
+    group.bench_function("mover_info", |b| {
+        b.iter(|| objective.mover_info(black_box(kids[0])))
+    });
+    group.finish();
+}
+
+criterion_group!(benches, stages, late_stages, episode, team, accuracy);
 criterion_main!(benches);

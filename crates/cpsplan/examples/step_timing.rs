@@ -4,7 +4,8 @@
 //! map and robot positions, then every step is planned again and timed.
 //!
 //! `cargo run --release -p cpsplan --example step_timing -- site 0 2`
-//! (`VERBOSE=1` prints every step's time).
+//! (`VERBOSE=1` prints every step's time; `STRATEGY=min-error` sets the child
+//! strategy).
 
 use std::time::Instant;
 
@@ -23,6 +24,13 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         ..Config::default()
     };
     config.children.count = children;
+    if let Some(s) = std::env::var_os("STRATEGY") {
+        let s = s.to_string_lossy();
+        config.children.strategy = cpsplan::config::ChildStrategy::ALL
+            .into_iter()
+            .find(|c| c.name() == s)
+            .ok_or("unknown STRATEGY")?;
+    }
     let truth = map.generate(seed);
     let mut states: Vec<(OccupancyGrid, Point, Vec<Point>)> = Vec::new();
     let t0 = Instant::now();

@@ -79,6 +79,14 @@ pub struct ParentConfig {
     pub min_gain_cells: usize,
     /// Border fragments (8-connected) smaller than this many cells are ignored.
     pub min_frontier_cells: usize,
+    /// Weight γ of the error term (beyond the paper, 0 = off): `G − γ·E`, where `E`
+    /// is the predicted growth of the parent's positioning error on the CPS move
+    /// to the candidate (normalized scoring: scaled to [0, 1] over the candidates
+    /// evaluated; literal: in millimetres). The moves to the best
+    /// `error_candidates` candidates by `G` are planned to evaluate it.
+    pub gamma: f64,
+    /// How many candidates the error term evaluates (their moves are planned).
+    pub error_candidates: usize,
 }
 
 impl Default for ParentConfig {
@@ -95,6 +103,8 @@ impl Default for ParentConfig {
             kmeans_iterations: 30,
             min_gain_cells: 10,
             min_frontier_cells: 2,
+            gamma: 0.0,
+            error_candidates: 4,
         }
     }
 }
@@ -397,6 +407,8 @@ impl Config {
         non_negative("robot.radius", self.robot.radius)?;
         non_negative("parent.alpha", self.parent.alpha)?;
         non_negative("parent.beta", self.parent.beta)?;
+        non_negative("parent.gamma", self.parent.gamma)?;
+        at_least_one("parent.error_candidates", self.parent.error_candidates)?;
         positive("parent.band_width", self.parent.band_width)?;
         positive("parent.samples_per_m2", self.parent.samples_per_m2)?;
         positive("parent.cluster_area", self.parent.cluster_area)?;

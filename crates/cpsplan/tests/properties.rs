@@ -266,6 +266,14 @@ proptest! {
                 }
                 prop_assert!(clear_of_truth(&cycle.parent_path, config.robot.radius),
                     "parent path {:?}", cycle.parent_path);
+                // No child hides another from the parent.
+                let r = config.children.radius / g.resolution;
+                for (a, ca) in cycle.children.iter().enumerate() {
+                    for cb in &cycle.children[a + 1..] {
+                        prop_assert!(cpsplan::children::apart(cell(ca.to), cell(cb.to), &[from, to], r),
+                            "children at {:?} and {:?} in line with the parent", ca.to, cb.to);
+                    }
+                }
                 // No two children share a spot.
                 prop_assert_eq!(cycle.children.len(), config.children.count);
                 for (a, ca) in cycle.children.iter().enumerate() {

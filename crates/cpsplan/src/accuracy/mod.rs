@@ -13,7 +13,7 @@
 //! - [`Model`]: one link's observation, Jacobians, noise.
 //! - [`Chain`]: the sequential propagation over the joint state.
 //! - [`batch_station_covariance`]: the whole network at once.
-//! - [`monte_carlo`]: noise drawn through the chain, estimated by nonlinear least
+//! - [`monte_carlo()`]: noise drawn through the chain, estimated by nonlinear least
 //!   squares.
 //! - [`Objective`]: what a placement of the children costs at the next pose.
 

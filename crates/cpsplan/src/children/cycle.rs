@@ -16,6 +16,7 @@ use super::and_region::{and_region, ChildReach};
 use super::clearance::clearances;
 use super::maps::StepMaps;
 use super::placement::{place_children, Placement, Spot};
+use super::spacing::apart;
 use crate::geom::Cell;
 
 /// What one child does during a cycle.
@@ -80,11 +81,17 @@ pub fn place_cycle(
     let g = *maps.knowledge().geometry();
     let mutual = maps.mutual_view(parent_from, parent_to);
     let regions: Vec<_> = reach.iter().map(|r| and_region(&mutual, r)).collect();
-    let stays: Vec<bool> = children
-        .iter()
-        .zip(&regions)
-        .map(|(&c, r)| r.contains(g.index(c)))
-        .collect();
+    let radius = params.child_radius / g.resolution;
+    let parents = [parent_from, parent_to];
+    // A child in its AND region stays, unless a child that stays already hides it
+    // (or it hides one) from the parent's new position.
+    let mut stays: Vec<bool> = Vec::with_capacity(children.len());
+    for (i, (&c, r)) in children.iter().zip(&regions).enumerate() {
+        let clear = (0..i)
+            .filter(|&k| stays[k])
+            .all(|k| apart(c, children[k], &parents, radius));
+        stays.push(r.contains(g.index(c)) && clear);
+    }
     if let Some(child) = (0..children.len()).find(|&i| !stays[i] && regions[i].size() == 0) {
         return Err(CycleError::NoAndRegion { child });
     }
@@ -93,7 +100,6 @@ pub fn place_cycle(
         .filter(|&s| stays[s])
         .map(|s| children[s])
         .collect();
-    let sep2 = (2.0 * params.child_radius / g.resolution).powi(2);
     // Clearance (Eq. 2's 1/P) of every cell any moving child may take, at once.
     let mut candidates: Vec<u32> = movers
         .iter()
@@ -113,13 +119,8 @@ pub fn place_cycle(
                 .cells
                 .iter()
                 .map(|&j| (j, g.cell(j as usize)))
-                // Keep clear of children that stay.
-                .filter(|&(_, c)| {
-                    staying.iter().all(|s| {
-                        let (dx, dy) = (c.x as f64 - s.x as f64, c.y as f64 - s.y as f64);
-                        dx * dx + dy * dy >= sep2
-                    })
-                })
+                // Keep clear of children that stay, and off their lines of sight.
+                .filter(|&(_, c)| staying.iter().all(|&s| apart(c, s, &parents, radius)))
                 .map(|(j, cell)| Spot {
                     cell,
                     clearance: clearance_of(j),
@@ -127,7 +128,14 @@ pub fn place_cycle(
                 .collect()
         })
         .collect();
-    let placed = place_children(&g, &spots, parent_to, params.child_radius, &params.eq2);
+    let placed = place_children(
+        &g,
+        &spots,
+        parent_to,
+        params.child_radius,
+        &parents,
+        &params.eq2,
+    );
     let mut out: Vec<CycleChild> = children
         .iter()
         .zip(&regions)

@@ -22,6 +22,7 @@ mod cycle;
 mod maps;
 mod params;
 mod placement;
+mod spacing;
 mod strategy;
 
 pub use and_region::{and_region, AndRegion, ChildReach};
@@ -29,6 +30,7 @@ pub use clearance::clearances;
 pub use cycle::{place_cycle, CpsCycle, CycleChild, CycleError};
 pub use maps::StepMaps;
 pub use params::CycleParams;
+pub use spacing::apart;
 pub use placement::{place_children, Eq2, Placement, Spot, EPS_D, EPS_THETA};
 pub use strategy::{place_min_error, place_random, SEARCH_GAP};
 

@@ -150,7 +150,12 @@ fn angle_bound(a: usize, b: usize, w: &Eq2) -> f64 {
 }
 
 /// The exact best pair: indices into `a` and `b` and the value.
-fn best_pair(a: &[Scored], b: &[Scored], min_sep2: i64, w: &Eq2) -> Option<(usize, usize, f64)> {
+fn best_pair(
+    a: &[Scored],
+    b: &[Scored],
+    together: &impl Fn(Cell, Cell) -> bool,
+    w: &Eq2,
+) -> Option<(usize, usize, f64)> {
     let mut bins_a: Vec<Vec<usize>> = vec![Vec::new(); BINS];
     let mut bins_b: Vec<Vec<usize>> = vec![Vec::new(); BINS];
     for (i, s) in a.iter().enumerate() {
@@ -164,13 +169,7 @@ fn best_pair(a: &[Scored], b: &[Scored], min_sep2: i64, w: &Eq2) -> Option<(usiz
     // The angle bound depends only on how many bins apart two bins are.
     let bound_of_gap: Vec<f64> = (0..BINS).map(|d| angle_bound(0, d, w)).collect();
     let gap = |ka: usize, kb: usize| ka.abs_diff(kb).min(BINS - ka.abs_diff(kb));
-    let separated = |p: &Scored, q: &Scored| {
-        let (dx, dy) = (
-            p.cell.x as i64 - q.cell.x as i64,
-            p.cell.y as i64 - q.cell.y as i64,
-        );
-        dx * dx + dy * dy >= min_sep2
-    };
+    let separated = |p: &Scored, q: &Scored| together(p.cell, q.cell);
     // An incumbent from the best cell of every bin pair, so that only bin pairs
     // whose bound beats it need sorting and searching.
     let mut incumbent: Option<f64> = None;
@@ -225,28 +224,26 @@ fn best_pair(a: &[Scored], b: &[Scored], min_sep2: i64, w: &Eq2) -> Option<(usiz
 
 /// Chooses a spot for every child jointly by Eq. (2): `spots[i]` are the cells of
 /// child `i`'s AND region, `target` the parent's target cell, `radius` the
-/// children's radius in metres. `None` for a child with no usable spot.
+/// children's radius in metres, `parents` the parent's positions of the cycle
+/// (no child may stand on another's line of sight to them, see
+/// [`super::apart`]). `None` for a child with no usable spot.
 pub fn place_children(
     geometry: &GridGeometry,
     spots: &[Vec<Spot>],
     target: Cell,
     radius: f64,
+    parents: &[Cell],
     weights: &Eq2,
 ) -> Vec<Option<Placement>> {
     let scored: Vec<Vec<Scored>> = spots
         .iter()
         .map(|s| score(s, geometry, target, weights))
         .collect();
-    let sep = (2.0 * radius / geometry.resolution).ceil() as i64;
-    let min_sep2 = sep * sep;
+    let r = radius / geometry.resolution;
+    let together = |p: Cell, q: Cell| super::spacing::apart(p, q, parents, r);
     let mut out: Vec<Option<Placement>> = vec![None; spots.len()];
     let mut placed: Vec<Cell> = Vec::new();
-    let free_of = |s: &Scored, placed: &[Cell]| {
-        placed.iter().all(|p| {
-            let (dx, dy) = (s.cell.x as i64 - p.x as i64, s.cell.y as i64 - p.y as i64);
-            dx * dx + dy * dy >= min_sep2
-        })
-    };
+    let free_of = |s: &Scored, placed: &[Cell]| placed.iter().all(|&p| together(s.cell, p));
     let mut i = 0;
     while i < spots.len() {
         let available = |k: usize, placed: &[Cell]| -> Vec<Scored> {
@@ -259,7 +256,7 @@ pub fn place_children(
         let a = available(i, &placed);
         if i + 1 < spots.len() {
             let b = available(i + 1, &placed);
-            if let Some((x, y, _)) = best_pair(&a, &b, min_sep2, weights) {
+            if let Some((x, y, _)) = best_pair(&a, &b, &together, weights) {
                 let theta = angle_between(a[x].bearing, b[y].bearing);
                 out[i] = Some(placement(&a[x], Some(theta)));
                 out[i + 1] = Some(placement(&b[y], Some(theta)));
@@ -346,7 +343,7 @@ mod tests {
                 clearance: 2.0,
             })
             .collect();
-        let p = place_children(&g, &[spots.clone(), spots], target, 0.25, &W);
+        let p = place_children(&g, &[spots.clone(), spots], target, 0.25, &[], &W);
         let (a, b) = (p[0].unwrap(), p[1].unwrap());
         assert!((a.distance - 3.0).abs() < 0.06 && (b.distance - 3.0).abs() < 0.06);
         let theta = a.theta.unwrap();
@@ -371,7 +368,7 @@ mod tests {
             };
             let (a, b) = (to_spots(&cells_a), to_spots(&cells_b));
             let expected = brute(&g, &a, &b, target, 0.25, &w);
-            let p = place_children(&g, &[a, b], target, 0.25, &w);
+            let p = place_children(&g, &[a, b], target, 0.25, &[], &w);
             if expected.is_finite() {
                 let got = value(&g, &p, target, &w);
                 prop_assert!((got - expected).abs() <= 1e-9 * expected.abs().max(1.0), "{} vs {}", got, expected);
@@ -392,7 +389,7 @@ mod tests {
                 clearance: 1.0,
             })
             .collect();
-        let p = place_children(&g, &vec![spots; 4], target, 0.25, &W);
+        let p = place_children(&g, &vec![spots; 4], target, 0.25, &[], &W);
         let cells: Vec<Cell> = p.iter().map(|q| q.unwrap().cell).collect();
         for i in 0..4 {
             for j in i + 1..4 {

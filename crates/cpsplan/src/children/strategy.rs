@@ -34,6 +34,7 @@ use super::and_region::{and_region, AndRegion, ChildReach};
 use super::clearance::clearances;
 use super::cycle::{CpsCycle, CycleChild};
 use super::maps::StepMaps;
+use super::spacing::apart;
 use super::placement::Placement;
 use crate::accuracy::{Chain, Objective};
 use crate::geom::Cell;
@@ -64,9 +65,25 @@ fn regions(maps: &StepMaps, cycle: &CpsCycle, reach: &[ChildReach]) -> Vec<AndRe
     reach.iter().map(|r| and_region(&mutual, r)).collect()
 }
 
-fn far_enough(a: Cell, b: Cell, sep2: f64) -> bool {
-    let (dx, dy) = (a.x as f64 - b.x as f64, a.y as f64 - b.y as f64);
-    dx * dx + dy * dy >= sep2
+/// Where children of one cycle may stand together ([`apart`]).
+#[derive(Debug, Clone)]
+struct Spacing {
+    parents: Vec<Cell>,
+    radius: f64,
+}
+
+impl Spacing {
+    fn of(maps: &StepMaps, cycle: &CpsCycle) -> Self {
+        let g = maps.knowledge().geometry();
+        Self {
+            parents: vec![cycle.parent_from, cycle.parent_to],
+            radius: maps.params().child_radius / g.resolution,
+        }
+    }
+
+    fn ok(&self, a: Cell, b: Cell) -> bool {
+        apart(a, b, &self.parents, self.radius)
+    }
 }
 
 /// Strategy (a): every child that moves in `cycle` takes a random spot of its AND
@@ -78,7 +95,7 @@ pub fn place_random(
     rng: &mut ChaCha8Rng,
 ) -> CpsCycle {
     let g = *maps.knowledge().geometry();
-    let sep2 = (2.0 * maps.params().child_radius / g.resolution).powi(2);
+    let spacing = Spacing::of(maps, cycle);
     let regions = regions(maps, cycle, reach);
     let mut out = cycle.clone();
     let mut taken: Vec<Cell> = cycle
@@ -95,7 +112,7 @@ pub fn place_random(
             .cells
             .iter()
             .map(|&j| g.cell(j as usize))
-            .filter(|&c| taken.iter().all(|&t| far_enough(c, t, sep2)))
+            .filter(|&c| taken.iter().all(|&t| spacing.ok(c, t)))
             .collect();
         if free.is_empty() {
             // No room left: the Eq. (2) spots, clear of each other by construction.
@@ -169,7 +186,7 @@ pub fn place_min_error(
     travel_weight: f64,
 ) -> Option<CpsCycle> {
     let g = *maps.knowledge().geometry();
-    let sep2 = (2.0 * maps.params().child_radius / g.resolution).powi(2);
+    let spacing = Spacing::of(maps, cycle);
     let regions = regions(maps, cycle, reach);
     let n = cycle.children.len();
     let measured = chain.points();
@@ -187,6 +204,14 @@ pub fn place_min_error(
             .filter(|&(b, _)| mask >> b & 1 == 1)
             .map(|(_, &i)| i)
             .collect();
+        let hidden = stayers.iter().enumerate().any(|(k, &a)| {
+            stayers[..k]
+                .iter()
+                .any(|&b| !spacing.ok(here[a], here[b]))
+        });
+        if hidden {
+            continue;
+        }
         let Some(objective) = Objective::new(chain, to, &stayers) else {
             continue;
         };
@@ -198,7 +223,7 @@ pub fn place_min_error(
                     .cells
                     .iter()
                     .map(|&j| g.cell(j as usize))
-                    .filter(|&c| stayers.iter().all(|&s| far_enough(c, here[s], sep2)))
+                    .filter(|&c| stayers.iter().all(|&s| spacing.ok(c, here[s])))
                     .map(|c| Spot {
                         cell: c,
                         info: objective.mover_info(g.cell_center(c)),
@@ -213,20 +238,20 @@ pub fn place_min_error(
         let cost = |j: &Matrix3<f64>| objective.value(j).max(0.0).sqrt();
         let found = match spots.len() {
             0 => Some((cost(&Matrix3::zeros()), Vec::new(), 0.0)),
-            1 => best_single(&spots[0], &Matrix3::zeros(), lambda, &cost, &[], sep2)
+            1 => best_single(&spots[0], &Matrix3::zeros(), lambda, &cost, &[], &spacing)
                 .map(|(v, s)| (v, vec![s], 0.0)),
             2 => best_pair(
                 &spots[0],
                 &spots[1],
                 lambda,
                 &cost,
-                sep2,
+                &spacing,
                 Gap {
                     floor: objective.floor(),
                     share: SEARCH_GAP,
                 },
             ),
-            _ => descend(&spots, lambda, &cost, sep2).map(|(v, p)| (v, p, f64::NAN)),
+            _ => descend(&spots, lambda, &cost, &spacing).map(|(v, p)| (v, p, f64::NAN)),
         };
         let Some((value, picks, gap)) = found else {
             continue;
@@ -273,11 +298,11 @@ fn best_single(
     lambda: f64,
     cost: &impl Fn(&Matrix3<f64>) -> f64,
     others: &[Cell],
-    sep2: f64,
+    spacing: &Spacing,
 ) -> Option<(f64, usize)> {
     let mut best: Option<(f64, usize)> = None;
     for (k, s) in spots.iter().enumerate() {
-        if !others.iter().all(|&o| far_enough(s.cell, o, sep2)) {
+        if !others.iter().all(|&o| spacing.ok(s.cell, o)) {
             continue;
         }
         let v = cost(&(fixed + s.info)) + lambda * s.travel;
@@ -294,7 +319,7 @@ fn descend(
     spots: &[Vec<Spot>],
     lambda: f64,
     cost: &impl Fn(&Matrix3<f64>) -> f64,
-    sep2: f64,
+    spacing: &Spacing,
 ) -> Option<(f64, Vec<usize>)> {
     let m = spots.len();
     let mut pick: Vec<Option<usize>> = vec![None; m];
@@ -313,14 +338,14 @@ fn descend(
     };
     for k in 0..m {
         let (j, cells, _) = total(&pick, k);
-        let (_, s) = best_single(&spots[k], &j, lambda, cost, &cells, sep2)?;
+        let (_, s) = best_single(&spots[k], &j, lambda, cost, &cells, spacing)?;
         pick[k] = Some(s);
     }
     for _round in 0..8 {
         let mut changed = false;
         for k in 0..m {
             let (j, cells, _) = total(&pick, k);
-            let (_, s) = best_single(&spots[k], &j, lambda, cost, &cells, sep2)?;
+            let (_, s) = best_single(&spots[k], &j, lambda, cost, &cells, spacing)?;
             if Some(s) != pick[k] {
                 pick[k] = Some(s);
                 changed = true;
@@ -532,7 +557,7 @@ fn best_pair(
     b: &[Spot],
     lambda: f64,
     cost: &impl Fn(&Matrix3<f64>) -> f64,
-    sep2: f64,
+    spacing: &Spacing,
     gap: Gap,
 ) -> Option<(f64, Vec<usize>, f64)> {
     let (ta, oa) = tree(a);
@@ -546,7 +571,7 @@ fn best_pair(
     let mut best: Option<(f64, usize, usize)> = None;
     for i in (0..a.len()).step_by(sa) {
         for j in (0..b.len()).step_by(sb) {
-            if far_enough(a[i].cell, b[j].cell, sep2) {
+            if spacing.ok(a[i].cell, b[j].cell) {
                 let v = value(i, j);
                 if best.is_none_or(|(bv, _, _)| v < bv) {
                     best = Some((v, i, j));
@@ -556,11 +581,11 @@ fn best_pair(
     }
     if let Some((_, mut i, mut j)) = best {
         for _ in 0..3 {
-            let Some((_, ii)) = best_single(a, &b[j].info, lambda, cost, &[b[j].cell], sep2) else {
+            let Some((_, ii)) = best_single(a, &b[j].info, lambda, cost, &[b[j].cell], spacing) else {
                 break;
             };
             i = ii;
-            let Some((_, jj)) = best_single(b, &a[i].info, lambda, cost, &[a[i].cell], sep2) else {
+            let Some((_, jj)) = best_single(b, &a[i].info, lambda, cost, &[a[i].cell], spacing) else {
                 break;
             };
             j = jj;
@@ -598,7 +623,7 @@ fn best_pair(
         match (na.halves, nb.halves) {
             (None, None) => {
                 let (i, j) = (oa[na.lo], ob[nb.lo]);
-                if far_enough(a[i].cell, b[j].cell, sep2) {
+                if spacing.ok(a[i].cell, b[j].cell) {
                     let v = value(i, j);
                     if best.is_none_or(|(bv, _, _)| v < bv) {
                         best = Some((v, i, j));
@@ -644,7 +669,7 @@ fn best_pair(
             let mut ex = f64::INFINITY;
             for (i, sa) in a.iter().enumerate() {
                 for (j, sb) in b.iter().enumerate() {
-                    if far_enough(sa.cell, sb.cell, sep2) {
+                    if spacing.ok(sa.cell, sb.cell) {
                         ex = ex.min(value(i, j));
                     }
                 }
@@ -702,11 +727,11 @@ mod tests {
             let b: Vec<Spot> = cells_b.iter().filter(|c| !near(c)).map(|&(x, y)| spot(&objective, x, y, chain.position())).collect();
             prop_assume!(!a.is_empty() && !b.is_empty());
             let cost = |j: &Matrix3<f64>| objective.value(j).max(0.0).sqrt();
-            let sep2 = 25.0;
+            let spacing = Spacing { parents: Vec::new(), radius: 2.5 };
             let mut brute: Option<f64> = None;
             for sa in &a {
                 for sb in &b {
-                    if far_enough(sa.cell, sb.cell, sep2) {
+                    if spacing.ok(sa.cell, sb.cell) {
                         let v = cost(&(sa.info + sb.info)) + lambda * (sa.travel + sb.travel);
                         if v.is_finite() && brute.is_none_or(|bv| v < bv) {
                             brute = Some(v);
@@ -714,7 +739,7 @@ mod tests {
                     }
                 }
             }
-            let found = best_pair(&a, &b, lambda, &cost, sep2, Gap { floor: 0.0, share: 0.0 })
+            let found = best_pair(&a, &b, lambda, &cost, &spacing, Gap { floor: 0.0, share: 0.0 })
                 .filter(|r| r.2 == 0.0)
                 .map(|(v, _, _)| v);
             match (brute, found) {

@@ -208,9 +208,21 @@ pub fn execute_move(
             .then(a.cmp(&b))
     });
     let mut record = MoveRecord::default();
+    // The error term: the moves to the best candidates planned, and the one with
+    // the best G − γ·E taken.
+    let mut planned: Vec<(usize, MovePlan, f64)> = Vec::new();
+    let evaluate = config.parent.gamma > 0.0 && chain.is_some();
     for &index in &order {
+        if evaluate && planned.len() >= config.parent.error_candidates {
+            break;
+        }
         let target = plan.candidates[index].cell;
         match step.plan_move(here, target, children) {
+            Ok(m) if evaluate => {
+                let growth = error_growth(&step, chain, &m).unwrap_or(f64::INFINITY);
+                plan.candidates[index].error_growth_m = Some(growth);
+                planned.push((index, m, growth));
+            }
             Ok(m) => return finish(&step, record, index, target, children, &m),
             Err(e) => {
                 record.rejected.push(RejectedTarget {
@@ -225,6 +237,29 @@ pub fn execute_move(
                     return (record, None);
                 }
             }
+        }
+    }
+    if !planned.is_empty() {
+        let worst = planned
+            .iter()
+            .map(|p| p.2)
+            .filter(|g| g.is_finite())
+            .fold(0.0f64, f64::max);
+        let term = |growth: f64| match config.parent.scoring {
+            crate::config::Scoring::Normalized if worst > 0.0 => (growth / worst).min(1.0),
+            crate::config::Scoring::Normalized => 0.0,
+            crate::config::Scoring::Literal => growth * 1e3,
+        };
+        let score = |(i, _, growth): &(usize, MovePlan, f64)| {
+            plan.candidates[*i].g - config.parent.gamma * term(*growth)
+        };
+        let best = planned
+            .iter()
+            .max_by(|a, b| score(a).total_cmp(&score(b)).then(b.0.cmp(&a.0)))
+            .map(|p| p.0);
+        if let Some((index, m, _)) = planned.into_iter().find(|p| Some(p.0) == best) {
+            let target = plan.candidates[index].cell;
+            return finish(&step, record, index, target, children, &m);
         }
     }
     for &index in order.iter().take(RELOCATE_CANDIDATES) {
@@ -259,6 +294,20 @@ pub fn execute_move(
         }
     }
     (record, None)
+}
+
+/// How much the predicted radial σ of the parent's position grows on the planned
+/// move `m`, metres; `None` when the chain cannot follow it.
+fn error_growth(step: &TeamStep, chain: Option<&Chain>, m: &MovePlan) -> Option<f64> {
+    let mut c = chain?.clone();
+    let before = c.pose().position_sigma();
+    let g = step.maps.knowledge().geometry();
+    for cycle in &m.cycles {
+        let kids: Vec<_> = cycle.children.iter().map(|k| g.cell_center(k.to)).collect();
+        let moved: Vec<bool> = cycle.children.iter().map(|k| !k.stays).collect();
+        c.cycle(g.cell_center(cycle.parent_to), &kids, &moved).ok()?;
+    }
+    Some(c.pose().position_sigma() - before)
 }
 
 /// The record and the robots' new places after the planned move `m` to `target`

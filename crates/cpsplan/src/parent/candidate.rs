@@ -53,6 +53,11 @@ pub struct Candidate {
     pub g: f64,
     /// `R = 1` and `S ≥ min_gain_cells`: may be chosen.
     pub eligible: bool,
+    /// With the error term (`parent.gamma > 0`): how much the predicted radial σ
+    /// of the parent's position grows on the CPS move to this candidate, metres
+    /// (only for the candidates whose moves were planned).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub error_growth_m: Option<f64>,
 }
 
 /// A candidate with no terms yet (`R = 0`, not eligible).
@@ -76,6 +81,7 @@ pub(super) fn new_candidate(
         s_cells: 0,
         g: 0.0,
         eligible: false,
+        error_growth_m: None,
     }
 }
 
