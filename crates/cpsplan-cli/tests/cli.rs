@@ -476,6 +476,14 @@ fn plan_matches_the_first_cycle_of_explore() {
     let (a, b) = (&plan["move"]["cycles"][0], &step["move"]["cycles"][0]);
     assert!(a.is_object(), "no cycle planned: {plan}");
     assert_eq!(a, b);
+    // The predicted error the move adds, that of its last cycle.
+    let cycles = plan["move"]["cycles"].as_array().unwrap();
+    let sigma = plan["predicted_position_sigma_m"].as_f64().unwrap();
+    assert!(sigma > 0.0 && sigma < 1.0, "{plan}");
+    assert_eq!(
+        cycles.last().unwrap()["position_sigma_m"].as_f64(),
+        Some(sigma)
+    );
 }
 
 #[test]

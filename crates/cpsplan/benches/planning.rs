@@ -283,7 +283,11 @@ fn accuracy(c: &mut Criterion) {
         .measurement_time(Duration::from_secs(2));
     let mut chain = Chain::new(model, Point::new(0.0, 0.0), 2);
     chain
-        .cycle(Point::new(10.0, 0.0), &[Point::new(5.0, 4.0), Point::new(5.0, -4.0)], &[true, true])
+        .cycle(
+            Point::new(10.0, 0.0),
+            &[Point::new(5.0, 4.0), Point::new(5.0, -4.0)],
+            &[true, true],
+        )
         .expect("cycle");
     let kids = [Point::new(14.0, 5.0), Point::new(15.0, -4.0)];
     group.bench_function("chain_cycle", |b| {
@@ -295,7 +299,9 @@ fn accuracy(c: &mut Criterion) {
     });
     let objective = Objective::new(&chain, Point::new(20.0, 1.0), &[]).expect("objective");
     let j = objective.mover_info(kids[0]) + objective.mover_info(kids[1]);
-    group.bench_function("objective_value", |b| b.iter(|| objective.value(black_box(&j))));
+    group.bench_function("objective_value", |b| {
+        b.iter(|| objective.value(black_box(&j)))
+    });
     group.bench_function("mover_info", |b| {
         b.iter(|| objective.mover_info(black_box(kids[0])))
     });

@@ -142,6 +142,10 @@ pub struct ChildrenConfig {
     /// the square already keeps off the wall; more keeps more margin at the cost
     /// of smaller AND regions (docs/DESIGN-CHOICES.md).
     pub sight_clearance: f64,
+    /// Radius of each child's marker, metres: the line of sight to one child may
+    /// not pass nearer than this to another child's marker (the lines run at
+    /// marker height, above the bodies).
+    pub marker_radius: f64,
     /// How the children's spots are chosen.
     pub strategy: ChildStrategy,
     /// Strategy `min-error`: the children's travel, metres, counted against the
@@ -162,6 +166,7 @@ impl Default for ChildrenConfig {
             max_range: None,
             clearance_cap: 1.0,
             sight_clearance: 0.0,
+            marker_radius: 0.1,
             strategy: ChildStrategy::Balanced,
             travel_weight: 0.01,
         }
@@ -258,15 +263,20 @@ impl Default for InstrumentConfig {
 pub enum InstrumentModel {
     /// TOPCON GPT-9005A, the paper's (Table I).
     #[default]
+    #[serde(rename = "gpt-9005a")]
     Gpt9005a,
     /// Leica Viva TS16, 1″ model.
+    #[serde(rename = "ts16")]
     Ts16,
     /// Leica Nova TS60.
+    #[serde(rename = "ts60")]
     Ts60,
     /// Topcon MS05AXII.
+    #[serde(rename = "ms05axii")]
     Ms05axii,
     /// FARO Focus S 350 laser scanner (markers measured in its own scans, as in
     /// CPS-VIII).
+    #[serde(rename = "focus-s350")]
     FocusS350,
 }
 
@@ -427,6 +437,7 @@ impl Config {
         positive("children.clearance_cap", self.children.clearance_cap)?;
         non_negative("children.sight_clearance", self.children.sight_clearance)?;
         non_negative("children.travel_weight", self.children.travel_weight)?;
+        non_negative("children.marker_radius", self.children.marker_radius)?;
         let i = &self.instrument;
         for (field, v) in [
             ("instrument.distance_sigma_mm", i.distance_sigma_mm),
@@ -492,5 +503,20 @@ mod tests {
         let partial: Config = serde_json::from_str(r#"{"parent":{"alpha":0}}"#).unwrap();
         assert_eq!(partial.parent.alpha, 0.0);
         assert_eq!(partial.parent.beta, 0.001);
+    }
+
+    /// The names configs and the command line use are the serialized names.
+    #[test]
+    fn preset_and_strategy_names_parse() {
+        for m in InstrumentModel::ALL {
+            let c: InstrumentConfig =
+                serde_json::from_str(&format!(r#"{{"model":"{}"}}"#, m.name())).unwrap();
+            assert_eq!(c.model, m);
+        }
+        for st in ChildStrategy::ALL {
+            let c: ChildrenConfig =
+                serde_json::from_str(&format!(r#"{{"strategy":"{}"}}"#, st.name())).unwrap();
+            assert_eq!(c.strategy, st);
+        }
     }
 }

@@ -268,9 +268,10 @@ proptest! {
                     "parent path {:?}", cycle.parent_path);
                 // No child hides another from the parent.
                 let r = config.children.radius / g.resolution;
+                let m = config.children.marker_radius / g.resolution;
                 for (a, ca) in cycle.children.iter().enumerate() {
                     for cb in &cycle.children[a + 1..] {
-                        prop_assert!(cpsplan::children::apart(cell(ca.to), cell(cb.to), &[from, to], r),
+                        prop_assert!(cpsplan::children::apart(cell(ca.to), cell(cb.to), &[from, to], r, m),
                             "children at {:?} and {:?} in line with the parent", ca.to, cb.to);
                     }
                 }

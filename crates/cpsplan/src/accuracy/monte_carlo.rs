@@ -376,7 +376,11 @@ mod stay_tests {
         let mc = monte_carlo(&model, start, &cycles, 4000, 3).unwrap();
         let e = mc.covariance.last().unwrap();
         let ratio = (e.xx + e.yy) / (a.xx + a.yy);
-        assert!((ratio - 1.0).abs() < 0.12, "ratio {ratio}, analytic σ {}", a.position_sigma());
+        assert!(
+            (ratio - 1.0).abs() < 0.12,
+            "ratio {ratio}, analytic σ {}",
+            a.position_sigma()
+        );
     }
 }
 

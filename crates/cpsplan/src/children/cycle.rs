@@ -82,6 +82,7 @@ pub fn place_cycle(
     let mutual = maps.mutual_view(parent_from, parent_to);
     let regions: Vec<_> = reach.iter().map(|r| and_region(&mutual, r)).collect();
     let radius = params.child_radius / g.resolution;
+    let marker = params.marker_radius / g.resolution;
     let parents = [parent_from, parent_to];
     // A child in its AND region stays, unless a child that stays already hides it
     // (or it hides one) from the parent's new position.
@@ -89,7 +90,7 @@ pub fn place_cycle(
     for (i, (&c, r)) in children.iter().zip(&regions).enumerate() {
         let clear = (0..i)
             .filter(|&k| stays[k])
-            .all(|k| apart(c, children[k], &parents, radius));
+            .all(|k| apart(c, children[k], &parents, radius, marker));
         stays.push(r.contains(g.index(c)) && clear);
     }
     if let Some(child) = (0..children.len()).find(|&i| !stays[i] && regions[i].size() == 0) {
@@ -120,7 +121,11 @@ pub fn place_cycle(
                 .iter()
                 .map(|&j| (j, g.cell(j as usize)))
                 // Keep clear of children that stay, and off their lines of sight.
-                .filter(|&(_, c)| staying.iter().all(|&s| apart(c, s, &parents, radius)))
+                .filter(|&(_, c)| {
+                    staying
+                        .iter()
+                        .all(|&s| apart(c, s, &parents, radius, marker))
+                })
                 .map(|(j, cell)| Spot {
                     cell,
                     clearance: clearance_of(j),
@@ -133,6 +138,7 @@ pub fn place_cycle(
         &spots,
         parent_to,
         params.child_radius,
+        params.marker_radius,
         &parents,
         &params.eq2,
     );
@@ -195,6 +201,7 @@ pub(crate) mod tests {
                 d_t: 3.0,
                 clearance_cap: 5.0,
             },
+            marker_radius: 0.1,
             strategy: crate::config::ChildStrategy::Balanced,
             travel_weight: 0.01,
         }

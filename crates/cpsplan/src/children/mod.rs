@@ -30,8 +30,8 @@ pub use clearance::clearances;
 pub use cycle::{place_cycle, CpsCycle, CycleChild, CycleError};
 pub use maps::StepMaps;
 pub use params::CycleParams;
-pub use spacing::apart;
 pub use placement::{place_children, Eq2, Placement, Spot, EPS_D, EPS_THETA};
+pub use spacing::apart;
 pub use strategy::{place_min_error, place_random, SEARCH_GAP};
 
 #[cfg(test)]

@@ -11,6 +11,9 @@ use crate::sensing::LinkRule;
 pub struct CycleParams {
     /// Radius of every child, metres.
     pub child_radius: f64,
+    /// Radius of every child's marker, metres: no line of sight to another
+    /// child passes nearer to it.
+    pub marker_radius: f64,
     /// The instrument's range limits for parent–child links.
     pub link: LinkRule,
     /// Eq. (2) weights and targets (already set for the strategy: `angle` and
@@ -31,6 +34,7 @@ impl CycleParams {
         let instrument = Instrument::from_config(&config.instrument);
         Self {
             child_radius: c.radius,
+            marker_radius: c.marker_radius,
             // The instrument's own limits bound the link too.
             link: LinkRule {
                 min: c.min_range.max(instrument.min_range),

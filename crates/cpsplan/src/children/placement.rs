@@ -224,14 +224,15 @@ fn best_pair(
 
 /// Chooses a spot for every child jointly by Eq. (2): `spots[i]` are the cells of
 /// child `i`'s AND region, `target` the parent's target cell, `radius` the
-/// children's radius in metres, `parents` the parent's positions of the cycle
-/// (no child may stand on another's line of sight to them, see
-/// [`super::apart`]). `None` for a child with no usable spot.
+/// children's radius and `marker` their markers' radius in metres, `parents` the
+/// parent's positions of the cycle (no child's marker on another's line of sight
+/// to them, see [`super::apart`]). `None` for a child with no usable spot.
 pub fn place_children(
     geometry: &GridGeometry,
     spots: &[Vec<Spot>],
     target: Cell,
     radius: f64,
+    marker: f64,
     parents: &[Cell],
     weights: &Eq2,
 ) -> Vec<Option<Placement>> {
@@ -239,8 +240,8 @@ pub fn place_children(
         .iter()
         .map(|s| score(s, geometry, target, weights))
         .collect();
-    let r = radius / geometry.resolution;
-    let together = |p: Cell, q: Cell| super::spacing::apart(p, q, parents, r);
+    let (r, m) = (radius / geometry.resolution, marker / geometry.resolution);
+    let together = |p: Cell, q: Cell| super::spacing::apart(p, q, parents, r, m);
     let mut out: Vec<Option<Placement>> = vec![None; spots.len()];
     let mut placed: Vec<Cell> = Vec::new();
     let free_of = |s: &Scored, placed: &[Cell]| placed.iter().all(|&p| together(s.cell, p));
@@ -343,7 +344,7 @@ mod tests {
                 clearance: 2.0,
             })
             .collect();
-        let p = place_children(&g, &[spots.clone(), spots], target, 0.25, &[], &W);
+        let p = place_children(&g, &[spots.clone(), spots], target, 0.25, 0.1, &[], &W);
         let (a, b) = (p[0].unwrap(), p[1].unwrap());
         assert!((a.distance - 3.0).abs() < 0.06 && (b.distance - 3.0).abs() < 0.06);
         let theta = a.theta.unwrap();
@@ -368,7 +369,7 @@ mod tests {
             };
             let (a, b) = (to_spots(&cells_a), to_spots(&cells_b));
             let expected = brute(&g, &a, &b, target, 0.25, &w);
-            let p = place_children(&g, &[a, b], target, 0.25, &[], &w);
+            let p = place_children(&g, &[a, b], target, 0.25, 0.1, &[], &w);
             if expected.is_finite() {
                 let got = value(&g, &p, target, &w);
                 prop_assert!((got - expected).abs() <= 1e-9 * expected.abs().max(1.0), "{} vs {}", got, expected);
@@ -389,7 +390,7 @@ mod tests {
                 clearance: 1.0,
             })
             .collect();
-        let p = place_children(&g, &vec![spots; 4], target, 0.25, &[], &W);
+        let p = place_children(&g, &vec![spots; 4], target, 0.25, 0.1, &[], &W);
         let cells: Vec<Cell> = p.iter().map(|q| q.unwrap().cell).collect();
         for i in 0..4 {
             for j in i + 1..4 {

@@ -1,16 +1,17 @@
-//! How far apart two children must stand during a cycle: two radii between their
-//! centres, and neither standing on the other's line of sight to the parent (a
-//! child robot's body hides the marker behind it).
+//! How far apart two children must stand during a cycle: two body radii between
+//! their centres, and neither's marker on the other's line of sight to the parent
+//! (a marker hides the marker behind it; the lines of sight run at marker height,
+//! above the robots' bodies).
 //!
 //! In: two children's cells, the parent's positions of the cycle, the children's
-//! radius in cells. Out: whether the two may stand there together.
+//! body and marker radii in cells. Out: whether the two may stand there together.
 
 use crate::geom::Cell;
 
-/// Whether children at `a` and `b` may stand together: at least two radii apart,
-/// and neither within a radius of the other's line of sight to any of `parents`
-/// (cell centres, distances in cells).
-pub fn apart(a: Cell, b: Cell, parents: &[Cell], radius: f64) -> bool {
+/// Whether children at `a` and `b` may stand together: at least two body radii
+/// `radius` apart, and neither within `marker` of the other's line of sight to any
+/// of `parents` (cell centres, distances in cells).
+pub fn apart(a: Cell, b: Cell, parents: &[Cell], radius: f64, marker: f64) -> bool {
     let (ax, ay) = (a.x as f64, a.y as f64);
     let (bx, by) = (b.x as f64, b.y as f64);
     let sep = (2.0 * radius).ceil();
@@ -19,8 +20,8 @@ pub fn apart(a: Cell, b: Cell, parents: &[Cell], radius: f64) -> bool {
     }
     parents.iter().all(|p| {
         let (px, py) = (p.x as f64, p.y as f64);
-        !near_segment((ax, ay), (px, py), (bx, by), radius)
-            && !near_segment((bx, by), (px, py), (ax, ay), radius)
+        !near_segment((ax, ay), (px, py), (bx, by), marker)
+            && !near_segment((bx, by), (px, py), (ax, ay), marker)
     })
 }
 
@@ -45,11 +46,30 @@ mod tests {
     fn a_child_on_the_other_ones_line_of_sight_hides_it() {
         let parent = Cell::new(0, 0);
         // In line with the parent, 3 m and 6 m away (0.25 m children, 0.1 m cells).
-        assert!(!apart(Cell::new(30, 0), Cell::new(60, 0), &[parent], 2.5));
-        // Off the line by more than a radius.
-        assert!(apart(Cell::new(30, 5), Cell::new(60, 0), &[parent], 2.5));
+        assert!(!apart(
+            Cell::new(30, 0),
+            Cell::new(60, 0),
+            &[parent],
+            2.5,
+            1.0
+        ));
+        // Off the line by more than the marker's radius.
+        assert!(apart(
+            Cell::new(30, 2),
+            Cell::new(60, 0),
+            &[parent],
+            2.5,
+            1.0
+        ));
+        assert!(!apart(
+            Cell::new(30, 2),
+            Cell::new(60, 0),
+            &[parent],
+            2.5,
+            2.5
+        ));
         // Too close, whatever the parent.
-        assert!(!apart(Cell::new(30, 0), Cell::new(33, 0), &[], 2.5));
-        assert!(apart(Cell::new(30, 0), Cell::new(35, 0), &[], 2.5));
+        assert!(!apart(Cell::new(30, 0), Cell::new(33, 0), &[], 2.5, 1.0));
+        assert!(apart(Cell::new(30, 0), Cell::new(35, 0), &[], 2.5, 1.0));
     }
 }

@@ -34,8 +34,8 @@ use super::and_region::{and_region, AndRegion, ChildReach};
 use super::clearance::clearances;
 use super::cycle::{CpsCycle, CycleChild};
 use super::maps::StepMaps;
-use super::spacing::apart;
 use super::placement::Placement;
+use super::spacing::apart;
 use crate::accuracy::{Chain, Objective};
 use crate::geom::Cell;
 use crate::grid::GridGeometry;
@@ -70,6 +70,7 @@ fn regions(maps: &StepMaps, cycle: &CpsCycle, reach: &[ChildReach]) -> Vec<AndRe
 struct Spacing {
     parents: Vec<Cell>,
     radius: f64,
+    marker: f64,
 }
 
 impl Spacing {
@@ -78,11 +79,12 @@ impl Spacing {
         Self {
             parents: vec![cycle.parent_from, cycle.parent_to],
             radius: maps.params().child_radius / g.resolution,
+            marker: maps.params().marker_radius / g.resolution,
         }
     }
 
     fn ok(&self, a: Cell, b: Cell) -> bool {
-        apart(a, b, &self.parents, self.radius)
+        apart(a, b, &self.parents, self.radius, self.marker)
     }
 }
 
@@ -204,11 +206,10 @@ pub fn place_min_error(
             .filter(|&(b, _)| mask >> b & 1 == 1)
             .map(|(_, &i)| i)
             .collect();
-        let hidden = stayers.iter().enumerate().any(|(k, &a)| {
-            stayers[..k]
-                .iter()
-                .any(|&b| !spacing.ok(here[a], here[b]))
-        });
+        let hidden = stayers
+            .iter()
+            .enumerate()
+            .any(|(k, &a)| stayers[..k].iter().any(|&b| !spacing.ok(here[a], here[b])));
         if hidden {
             continue;
         }
@@ -581,11 +582,13 @@ fn best_pair(
     }
     if let Some((_, mut i, mut j)) = best {
         for _ in 0..3 {
-            let Some((_, ii)) = best_single(a, &b[j].info, lambda, cost, &[b[j].cell], spacing) else {
+            let Some((_, ii)) = best_single(a, &b[j].info, lambda, cost, &[b[j].cell], spacing)
+            else {
                 break;
             };
             i = ii;
-            let Some((_, jj)) = best_single(b, &a[i].info, lambda, cost, &[a[i].cell], spacing) else {
+            let Some((_, jj)) = best_single(b, &a[i].info, lambda, cost, &[a[i].cell], spacing)
+            else {
                 break;
             };
             j = jj;
@@ -727,7 +730,7 @@ mod tests {
             let b: Vec<Spot> = cells_b.iter().filter(|c| !near(c)).map(|&(x, y)| spot(&objective, x, y, chain.position())).collect();
             prop_assume!(!a.is_empty() && !b.is_empty());
             let cost = |j: &Matrix3<f64>| objective.value(j).max(0.0).sqrt();
-            let spacing = Spacing { parents: Vec::new(), radius: 2.5 };
+            let spacing = Spacing { parents: Vec::new(), radius: 2.5, marker: 1.0 };
             let mut brute: Option<f64> = None;
             for sa in &a {
                 for sb in &b {

@@ -305,7 +305,8 @@ fn error_growth(step: &TeamStep, chain: Option<&Chain>, m: &MovePlan) -> Option<
     for cycle in &m.cycles {
         let kids: Vec<_> = cycle.children.iter().map(|k| g.cell_center(k.to)).collect();
         let moved: Vec<bool> = cycle.children.iter().map(|k| !k.stays).collect();
-        c.cycle(g.cell_center(cycle.parent_to), &kids, &moved).ok()?;
+        c.cycle(g.cell_center(cycle.parent_to), &kids, &moved)
+            .ok()?;
     }
     Some(c.pose().position_sigma() - before)
 }

@@ -133,6 +133,9 @@ pub(super) fn caption(
         if let Some(s) = segments.first_mut() {
             *s = format!("cycle {}{to}: {s}", k + 1);
         }
+        if let Some(sigma) = cycle.position_sigma_m {
+            segments.push(format!("parent \u{3c3} after {:.1} mm", sigma * 1e3));
+        }
         lines.extend(wrap(&segments, room, style));
     }
     lines
