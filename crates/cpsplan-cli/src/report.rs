@@ -42,12 +42,7 @@ impl MapSource {
 
 /// The snake_case name of a stop reason, as in the JSON records.
 pub fn stop_label(reason: StopReason) -> &'static str {
-    match reason {
-        StopReason::Complete => "complete",
-        StopReason::NoReachableFrontier => "no_reachable_frontier",
-        StopReason::ScanLimit => "scan_limit",
-        StopReason::NoCpsMove => "no_cps_move",
-    }
+    reason.name()
 }
 
 /// `summary.json`.

@@ -1,3 +1,4 @@
 //! Map and record file formats.
 
+mod pnm;
 pub mod rosmap;

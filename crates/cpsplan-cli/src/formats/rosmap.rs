@@ -21,11 +21,14 @@
 
 use std::fmt::Write as _;
 use std::fs;
-use std::io::{self, Write as _};
+use std::io::{self, Cursor, Read, Write as _};
 use std::path::{Path, PathBuf};
 
-use cpsplan::{CellState, GridGeometry, OccupancyGrid, Point};
-use image::{DynamicImage, ImageReader};
+use cpsplan::config::number;
+use cpsplan::{CellState, Config, GridGeometry, OccupancyGrid, Point};
+use image::{DynamicImage, ImageFormat, ImageReader};
+
+use super::pnm;
 use serde::Deserialize;
 
 /// Default `occupied_thresh` (ROS `map_server`).
@@ -85,6 +88,38 @@ pub enum FormatError {
         path: PathBuf,
         /// What is unsupported.
         message: String,
+    },
+    /// The path is not a regular file (a directory, a FIFO, a device).
+    #[error("{}: not a regular file", path.display())]
+    NotAFile {
+        /// The path.
+        path: PathBuf,
+    },
+    /// The file is larger than the limit for its kind.
+    #[error("{}: file of {} bytes, more than the limit of {}", path.display(), number(*size as f64), number(*limit as f64))]
+    FileTooLarge {
+        /// The file.
+        path: PathBuf,
+        /// Its size, bytes.
+        size: u64,
+        /// The limit, bytes.
+        limit: u64,
+    },
+    /// The image has more pixels than the grid-cell limit.
+    #[error(
+        "{}: image of {width} × {height} pixels, more than `limits.max_grid_cells` = {}",
+        path.display(),
+        number(*limit as f64)
+    )]
+    TooManyPixels {
+        /// The image file.
+        path: PathBuf,
+        /// Pixels per row.
+        width: u32,
+        /// Rows.
+        height: u32,
+        /// The limit, pixels.
+        limit: u64,
     },
     /// The image could not be decoded.
     #[error("{}: cannot decode image: {source}", path.display())]
@@ -171,8 +206,12 @@ struct RawMetadata {
 impl MapMetadata {
     /// Read and validate a YAML file.
     pub fn read(yaml: &Path) -> Result<Self, FormatError> {
-        let text = fs::read_to_string(yaml).map_err(|e| FormatError::io(yaml, e))?;
-        Self::parse(&text, yaml)
+        Self::read_with(yaml, &ReadLimits::default())
+    }
+
+    /// Read and validate a YAML file of at most `limits.max_text_bytes`.
+    pub fn read_with(yaml: &Path, limits: &ReadLimits) -> Result<Self, FormatError> {
+        Self::parse(&read_text(yaml, limits.max_text_bytes)?, yaml)
     }
 
     /// Parse and validate YAML text; `yaml` is the file it came from (for messages
@@ -309,42 +348,66 @@ impl MapMetadata {
         }
     }
 
-    /// Read the image this metadata refers to into a grid.
+    /// Read the image this metadata refers to into a grid, within the default
+    /// [`ReadLimits`].
     pub fn load_grid(&self) -> Result<OccupancyGrid, FormatError> {
-        check_resolution(self.resolution, &self.image, "resolution")?;
-        let img = decode_image(&self.image)?;
-        let (w, h) = (img.width() as usize, img.height() as usize);
-        if w == 0 || h == 0 {
-            return Err(FormatError::UnsupportedImage {
-                path: self.image.clone(),
-                message: "image has no pixels".into(),
-            });
-        }
-        let cells = classify_pixels(&img, &self.image, self.classifier())?;
-        OccupancyGrid::from_cells(self.geometry(w, h), cells).ok_or_else(|| {
-            FormatError::UnsupportedImage {
-                path: self.image.clone(),
-                message: "pixel count does not match the image size".into(),
-            }
-        })
+        self.load_grid_with(&ReadLimits::default())
     }
 
-    /// The rule turning a pixel value (0–255, channels averaged) into a cell state.
-    fn classifier(&self) -> impl Fn(f64) -> CellState {
+    /// Read the image this metadata refers to into a grid, within `limits`.
+    pub fn load_grid_with(&self, limits: &ReadLimits) -> Result<OccupancyGrid, FormatError> {
+        let bytes = read_file(&self.image, limits.max_image_bytes)?;
+        self.grid_from_image(&bytes, limits)
+    }
+
+    /// Decode image bytes (PNG or PGM/PPM/PAM, told apart by content) into a grid
+    /// placed by this metadata; `self.image` names the image in messages. The
+    /// image's size is checked against `limits` before its pixels are decoded.
+    pub fn grid_from_image(
+        &self,
+        bytes: &[u8],
+        limits: &ReadLimits,
+    ) -> Result<OccupancyGrid, FormatError> {
+        check_resolution(self.resolution, &self.image, "resolution")?;
+        let path = &self.image;
+        let unsupported = |message: String| FormatError::UnsupportedImage {
+            path: path.clone(),
+            message,
+        };
+        let format = image::guess_format(bytes)
+            .ok()
+            .filter(|f| matches!(f, ImageFormat::Png | ImageFormat::Pnm))
+            .ok_or_else(|| unsupported("not a PNG or PGM/PNM image".into()))?;
+        let raster = match format {
+            ImageFormat::Pnm => match pnm::read_raw(bytes, limits.max_pixels) {
+                Ok(Some(raw)) => Raster::Raw(raw),
+                Ok(None) => Raster::Decoded(decode(bytes, format, path, limits)?),
+                Err(message) => return Err(unsupported(message)),
+            },
+            _ => Raster::Decoded(decode(bytes, format, path, limits)?),
+        };
+        let (w, h) = raster.size();
+        if w == 0 || h == 0 {
+            return Err(unsupported("image has no pixels".into()));
+        }
+        let cells = raster.classify(path, self.classifier())?;
+        OccupancyGrid::from_cells(self.geometry(w, h), cells)
+            .ok_or_else(|| unsupported("pixel count does not match the image size".into()))
+    }
+
+    /// The rule turning a pixel's sample value (channels averaged) out of the
+    /// image's greatest value `max` into a cell state.
+    fn classifier(&self) -> impl Fn(f64, f64) -> CellState {
         let (mode, negate) = (self.mode, self.negate);
         let (occ, free) = (self.occupied_thresh, self.free_thresh);
-        move |v: f64| match mode {
+        move |v: f64, max: f64| match mode {
             MapMode::Raw => match v.round() as i64 {
                 0 => CellState::Free,
                 100 => CellState::Occupied,
                 _ => CellState::Unknown,
             },
             MapMode::Trinary | MapMode::Scale => {
-                let p = if negate {
-                    v / 255.0
-                } else {
-                    (255.0 - v) / 255.0
-                };
+                let p = if negate { v / max } else { (max - v) / max };
                 if p > occ {
                     CellState::Occupied
                 } else if p < free {
@@ -357,6 +420,78 @@ impl MapMetadata {
     }
 }
 
+/// What a map file may make cpsplan read and allocate. Every size is checked
+/// before the memory it implies is taken.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct ReadLimits {
+    /// Most pixels an image may have (`limits.max_grid_cells` of the
+    /// configuration).
+    pub max_pixels: u64,
+    /// Largest image file, bytes.
+    pub max_image_bytes: u64,
+    /// Largest YAML or TOML file, bytes.
+    pub max_text_bytes: u64,
+}
+
+impl Default for ReadLimits {
+    fn default() -> Self {
+        Self::for_config(&Config::default())
+    }
+}
+
+impl ReadLimits {
+    /// The limits for a configuration: images up to its grid-cell cap, image
+    /// files up to 2 GiB, text files up to 16 MiB.
+    pub fn for_config(config: &Config) -> Self {
+        Self {
+            max_pixels: config.limits.max_grid_cells as u64,
+            max_image_bytes: 2 << 30,
+            max_text_bytes: 16 << 20,
+        }
+    }
+}
+
+/// Reads a whole regular file of at most `max_bytes` bytes. Anything else (a
+/// directory, a FIFO, a device, a larger file) is refused before reading, so a
+/// path can never block or exhaust memory.
+pub fn read_file(path: &Path, max_bytes: u64) -> Result<Vec<u8>, FormatError> {
+    let meta = fs::metadata(path).map_err(|e| FormatError::io(path, e))?;
+    if !meta.is_file() {
+        return Err(FormatError::NotAFile {
+            path: path.to_path_buf(),
+        });
+    }
+    if meta.len() > max_bytes {
+        return Err(FormatError::FileTooLarge {
+            path: path.to_path_buf(),
+            size: meta.len(),
+            limit: max_bytes,
+        });
+    }
+    let file = fs::File::open(path).map_err(|e| FormatError::io(path, e))?;
+    let mut bytes = Vec::with_capacity(meta.len() as usize);
+    file.take(max_bytes.saturating_add(1))
+        .read_to_end(&mut bytes)
+        .map_err(|e| FormatError::io(path, e))?;
+    if bytes.len() as u64 > max_bytes {
+        return Err(FormatError::FileTooLarge {
+            path: path.to_path_buf(),
+            size: bytes.len() as u64,
+            limit: max_bytes,
+        });
+    }
+    Ok(bytes)
+}
+
+/// Reads a UTF-8 text file of at most `max_bytes` bytes with [`read_file`].
+pub fn read_text(path: &Path, max_bytes: u64) -> Result<String, FormatError> {
+    String::from_utf8(read_file(path, max_bytes)?).map_err(|_| FormatError::BadValue {
+        path: path.to_path_buf(),
+        key: "file",
+        message: "not UTF-8 text".into(),
+    })
+}
+
 fn check_resolution(resolution: f64, path: &Path, key: &'static str) -> Result<(), FormatError> {
     if resolution.is_finite() && resolution > 0.0 {
         Ok(())
@@ -364,68 +499,108 @@ fn check_resolution(resolution: f64, path: &Path, key: &'static str) -> Result<(
         Err(FormatError::bad(
             path,
             key,
-            format!("{resolution} is not a finite positive number of metres"),
+            format!("{} is not a finite positive number of metres", number(resolution)),
         ))
     }
 }
 
-/// Decode a PNG or PNM (P2/P5 and friends) image, detecting the format by content.
-fn decode_image(path: &Path) -> Result<DynamicImage, FormatError> {
-    let reader = ImageReader::open(path)
-        .map_err(|e| FormatError::io(path, e))?
-        .with_guessed_format()
-        .map_err(|e| FormatError::io(path, e))?;
-    if reader.format().is_none() {
-        return Err(FormatError::UnsupportedImage {
-            path: path.to_path_buf(),
-            message: "not a PNG or PGM/PNM image".into(),
-        });
-    }
-    reader.decode().map_err(|source| FormatError::ImageDecode {
+/// Decode a PNG or a bitmap PNM with the `image` crate, its size checked against
+/// `limits` from the header first.
+fn decode(
+    bytes: &[u8],
+    format: ImageFormat,
+    path: &Path,
+    limits: &ReadLimits,
+) -> Result<DynamicImage, FormatError> {
+    let decode_error = |source| FormatError::ImageDecode {
         path: path.to_path_buf(),
         source,
-    })
-}
-
-/// Cell states of an image's pixels, row-major from the *bottom* row (the image's
-/// first row is the top of the map). Each pixel is reduced to a value on the
-/// 0–255 scale (gray as is, colour channels averaged, alpha ignored, 16-bit
-/// samples scaled down) and passed to `classify`.
-fn classify_pixels(
-    img: &DynamicImage,
-    path: &Path,
-    classify: impl Fn(f64) -> CellState,
-) -> Result<Vec<CellState>, FormatError> {
-    const S8: f64 = 1.0;
-    const S16: f64 = 255.0 / 65535.0;
-    let w = img.width() as usize;
-    let cells = match img {
-        DynamicImage::ImageLuma8(b) => flipped(b.as_raw(), w, 1, &classify, |p| gray(p, S8)),
-        DynamicImage::ImageLumaA8(b) => flipped(b.as_raw(), w, 2, &classify, |p| gray(p, S8)),
-        DynamicImage::ImageRgb8(b) => flipped(b.as_raw(), w, 3, &classify, |p| rgb(p, S8)),
-        DynamicImage::ImageRgba8(b) => flipped(b.as_raw(), w, 4, &classify, |p| rgb(p, S8)),
-        DynamicImage::ImageLuma16(b) => flipped(b.as_raw(), w, 1, &classify, |p| gray(p, S16)),
-        DynamicImage::ImageLumaA16(b) => flipped(b.as_raw(), w, 2, &classify, |p| gray(p, S16)),
-        DynamicImage::ImageRgb16(b) => flipped(b.as_raw(), w, 3, &classify, |p| rgb(p, S16)),
-        DynamicImage::ImageRgba16(b) => flipped(b.as_raw(), w, 4, &classify, |p| rgb(p, S16)),
-        other => {
-            return Err(FormatError::UnsupportedImage {
-                path: path.to_path_buf(),
-                message: format!("pixel type {:?}", other.color()),
-            })
-        }
     };
-    Ok(cells)
+    let (w, h) = ImageReader::with_format(Cursor::new(bytes), format)
+        .into_dimensions()
+        .map_err(decode_error)?;
+    let pixels = u64::from(w) * u64::from(h);
+    if pixels > limits.max_pixels {
+        return Err(FormatError::TooManyPixels {
+            path: path.to_path_buf(),
+            width: w,
+            height: h,
+            limit: limits.max_pixels,
+        });
+    }
+    let mut image_limits = image::Limits::default();
+    image_limits.max_image_width = Some(w);
+    image_limits.max_image_height = Some(h);
+    // The largest pixel type (RGBA, 16 bits) and the decoder's own buffers.
+    image_limits.max_alloc = Some(pixels.saturating_mul(16).saturating_add(64 << 20));
+    let mut reader = ImageReader::with_format(Cursor::new(bytes), format);
+    reader.limits(image_limits);
+    reader.decode().map_err(decode_error)
 }
 
-/// The first channel of a pixel, scaled to 0–255.
-fn gray<T: Copy + Into<f64>>(p: &[T], scale: f64) -> f64 {
-    p[0].into() * scale
+/// Decoded pixels: raw anymap samples, or an image from the `image` crate.
+enum Raster {
+    Raw(pnm::RawSamples),
+    Decoded(DynamicImage),
 }
 
-/// The mean of a pixel's first three channels, scaled to 0–255.
-fn rgb<T: Copy + Into<f64>>(p: &[T], scale: f64) -> f64 {
-    (p[0].into() + p[1].into() + p[2].into()) / 3.0 * scale
+impl Raster {
+    fn size(&self) -> (usize, usize) {
+        match self {
+            Raster::Raw(r) => (r.width as usize, r.height as usize),
+            Raster::Decoded(img) => (img.width() as usize, img.height() as usize),
+        }
+    }
+
+    /// Cell states of the pixels, row-major from the *bottom* row (the image's
+    /// first row is the top of the map). Each pixel is reduced to one sample
+    /// value (gray as is, colour channels averaged, alpha ignored) and passed to
+    /// `classify` with the image's greatest value (anymap maxval, 255 or 65535).
+    fn classify(
+        &self,
+        path: &Path,
+        classify: impl Fn(f64, f64) -> CellState,
+    ) -> Result<Vec<CellState>, FormatError> {
+        const M8: f64 = 255.0;
+        const M16: f64 = 65535.0;
+        let (w, _) = self.size();
+        let c = &classify;
+        let img = match self {
+            Raster::Raw(r) => {
+                let max = f64::from(r.maxval);
+                let value: fn(&[u16]) -> f64 = if r.channels >= 3 { rgb } else { gray };
+                return Ok(flipped(&r.samples, w, r.channels, |v| c(v, max), value));
+            }
+            Raster::Decoded(img) => img,
+        };
+        let cells = match img {
+            DynamicImage::ImageLuma8(b) => flipped(b.as_raw(), w, 1, |v| c(v, M8), gray),
+            DynamicImage::ImageLumaA8(b) => flipped(b.as_raw(), w, 2, |v| c(v, M8), gray),
+            DynamicImage::ImageRgb8(b) => flipped(b.as_raw(), w, 3, |v| c(v, M8), rgb),
+            DynamicImage::ImageRgba8(b) => flipped(b.as_raw(), w, 4, |v| c(v, M8), rgb),
+            DynamicImage::ImageLuma16(b) => flipped(b.as_raw(), w, 1, |v| c(v, M16), gray),
+            DynamicImage::ImageLumaA16(b) => flipped(b.as_raw(), w, 2, |v| c(v, M16), gray),
+            DynamicImage::ImageRgb16(b) => flipped(b.as_raw(), w, 3, |v| c(v, M16), rgb),
+            DynamicImage::ImageRgba16(b) => flipped(b.as_raw(), w, 4, |v| c(v, M16), rgb),
+            other => {
+                return Err(FormatError::UnsupportedImage {
+                    path: path.to_path_buf(),
+                    message: format!("pixel type {:?}", other.color()),
+                })
+            }
+        };
+        Ok(cells)
+    }
+}
+
+/// The first channel of a pixel.
+fn gray<T: Copy + Into<f64>>(p: &[T]) -> f64 {
+    p[0].into()
+}
+
+/// The mean of a pixel's first three channels.
+fn rgb<T: Copy + Into<f64>>(p: &[T]) -> f64 {
+    (p[0].into() + p[1].into() + p[2].into()) / 3.0
 }
 
 /// Classify interleaved samples (`channels` per pixel, rows of `width` pixels
@@ -444,9 +619,14 @@ fn flipped<T>(
     cells
 }
 
-/// Load a ROS `map_server` map from its YAML file.
+/// Load a ROS `map_server` map from its YAML file (default [`ReadLimits`]).
 pub fn load_map(yaml: &Path) -> Result<OccupancyGrid, FormatError> {
-    MapMetadata::read(yaml)?.load_grid()
+    load_map_with(yaml, &ReadLimits::default())
+}
+
+/// Load a ROS `map_server` map from its YAML file within `limits`.
+pub fn load_map_with(yaml: &Path, limits: &ReadLimits) -> Result<OccupancyGrid, FormatError> {
+    MapMetadata::read_with(yaml, limits)?.load_grid_with(limits)
 }
 
 /// Load a plain PNG/PGM image as a map without YAML: cells `resolution` m wide,
@@ -459,14 +639,24 @@ pub fn load_image_map(path: &Path, resolution: f64) -> Result<OccupancyGrid, For
 /// Load a map from a `.yaml`/`.yml` file (with [`load_map`]) or from any other
 /// file as a plain image (with [`load_image_map`] at `default_resolution`).
 pub fn load_any(path: &Path, default_resolution: f64) -> Result<OccupancyGrid, FormatError> {
+    load_any_with(path, default_resolution, &ReadLimits::default())
+}
+
+/// [`load_any`] within `limits`.
+pub fn load_any_with(
+    path: &Path,
+    default_resolution: f64,
+    limits: &ReadLimits,
+) -> Result<OccupancyGrid, FormatError> {
     let is_yaml = path
         .extension()
         .and_then(|e| e.to_str())
         .is_some_and(|e| e.eq_ignore_ascii_case("yaml") || e.eq_ignore_ascii_case("yml"));
     if is_yaml {
-        load_map(path)
+        load_map_with(path, limits)
     } else {
-        load_image_map(path, default_resolution)
+        check_resolution(default_resolution, path, "resolution")?;
+        MapMetadata::for_image(path, default_resolution).load_grid_with(limits)
     }
 }
 

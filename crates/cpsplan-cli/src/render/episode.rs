@@ -2,7 +2,7 @@
 //! markers and their numbers, placed so that they do not hide one another.
 
 use cpsplan::world::CoverageTracker;
-use cpsplan::{CellState, Episode, OccupancyGrid, Point, StopReason};
+use cpsplan::{CellState, Episode, OccupancyGrid, Point};
 use tiny_skia::PathBuilder;
 
 use super::canvas::{Canvas, Rgb};
@@ -158,12 +158,7 @@ pub(super) fn draw_episode(
 /// planner seed 0".
 fn summary_line(episode: &Episode) -> String {
     let s = &episode.summary;
-    let stop = match s.stop_reason {
-        StopReason::Complete => "complete",
-        StopReason::NoReachableFrontier => "no reachable frontier",
-        StopReason::ScanLimit => "scan limit",
-        StopReason::NoCpsMove => "no CPS move",
-    };
+    let stop = s.stop_reason.describe();
     format!(
         "{} scan{} \u{b7} coverage {:.1} % \u{b7} walls {:.1} % \u{b7} parent travel {:.1} m \
          \u{b7} stop: {} \u{b7} planner seed {}",

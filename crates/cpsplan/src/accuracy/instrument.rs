@@ -41,15 +41,14 @@ impl Instrument {
     /// mode, standard measurement), with the configuration's defaults for the
     /// rest.
     pub fn preset(model: InstrumentModel) -> Self {
-        let (name, description, mm, ppm, arcsec, min, max) = match model {
+        let (min, max) = model.range_m();
+        let (name, description, mm, ppm, arcsec) = match model {
             InstrumentModel::Gpt9005a => (
                 "gpt-9005a",
                 "TOPCON GPT-9005A, the paper's total station (Table I: 2 mm + 2 ppm, 1\u{2033}, 1.3-3,000 m)",
                 2.0,
                 2.0,
                 1.0,
-                1.3,
-                3000.0,
             ),
             InstrumentModel::Ts16 => (
                 "ts16",
@@ -57,8 +56,6 @@ impl Instrument {
                 1.0,
                 1.5,
                 1.0,
-                1.5,
-                3500.0,
             ),
             InstrumentModel::Ts60 => (
                 "ts60",
@@ -66,8 +63,6 @@ impl Instrument {
                 0.6,
                 1.0,
                 0.5,
-                1.5,
-                3500.0,
             ),
             InstrumentModel::Ms05axii => (
                 "ms05axii",
@@ -75,8 +70,6 @@ impl Instrument {
                 0.8,
                 1.0,
                 0.5,
-                1.3,
-                3500.0,
             ),
             InstrumentModel::FocusS350 => (
                 "focus-s350",
@@ -84,8 +77,6 @@ impl Instrument {
                 1.0,
                 0.0,
                 19.0,
-                0.6,
-                350.0,
             ),
         };
         let d = InstrumentConfig::default();

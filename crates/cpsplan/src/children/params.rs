@@ -2,7 +2,6 @@
 //! instrument's range limits and the weights of Eq. (2).
 
 use super::placement::Eq2;
-use crate::accuracy::Instrument;
 use crate::config::{ChildStrategy, Config};
 use crate::sensing::LinkRule;
 
@@ -31,17 +30,14 @@ impl CycleParams {
     /// radians.
     pub fn from_config(config: &Config) -> Self {
         let c = &config.children;
-        let instrument = Instrument::from_config(&config.instrument);
+        let (min, max) = config.link_range();
         Self {
             child_radius: c.radius,
             marker_radius: c.marker_radius,
             // The instrument's own limits bound the link too.
             link: LinkRule {
-                min: c.min_range.max(instrument.min_range),
-                max: c
-                    .max_range
-                    .unwrap_or(config.scanner.range)
-                    .min(instrument.max_range),
+                min,
+                max,
                 clearance: c.sight_clearance,
             },
             eq2: Eq2 {

@@ -55,6 +55,9 @@ pub enum MissionError {
 pub enum StopReason {
     /// No border between known-Free and Unknown space is left.
     Complete,
+    /// Border is left, but only in fragments smaller than
+    /// `parent.min_frontier_cells`.
+    FrontierBelowThreshold,
     /// Border remains, but no reachable position would see anything new.
     NoReachableFrontier,
     /// `mission.max_scans` was reached.
@@ -62,6 +65,56 @@ pub enum StopReason {
     /// Targets remain, but none can be reached by CPS cycles (no usable AND region
     /// even with subgoals).
     NoCpsMove,
+    /// The robots could only drive within a small region around the start (less
+    /// than [`START_REGION_SHARE`] of the free space 4-connected to it, or less
+    /// than [`START_REGION_SHARE_OF_MAP`] of all the map's free space), and the
+    /// episode ended there: the start, the robot radius or the map is likely
+    /// wrong.
+    StartRegionTooSmall,
+}
+
+/// The share of the free space 4-connected to the start below which a start
+/// region counts as too small ([`StopReason::StartRegionTooSmall`]).
+pub const START_REGION_SHARE: f64 = 0.1;
+
+/// The share of all the map's free space below which a start region counts as
+/// too small ([`StopReason::StartRegionTooSmall`]).
+pub const START_REGION_SHARE_OF_MAP: f64 = 0.01;
+
+impl StopReason {
+    /// Every stop reason.
+    pub const ALL: [StopReason; 6] = [
+        StopReason::Complete,
+        StopReason::FrontierBelowThreshold,
+        StopReason::NoReachableFrontier,
+        StopReason::ScanLimit,
+        StopReason::NoCpsMove,
+        StopReason::StartRegionTooSmall,
+    ];
+
+    /// The snake_case name, as in the JSON records.
+    pub fn name(self) -> &'static str {
+        match self {
+            StopReason::Complete => "complete",
+            StopReason::FrontierBelowThreshold => "frontier_below_threshold",
+            StopReason::NoReachableFrontier => "no_reachable_frontier",
+            StopReason::ScanLimit => "scan_limit",
+            StopReason::NoCpsMove => "no_cps_move",
+            StopReason::StartRegionTooSmall => "start_region_too_small",
+        }
+    }
+
+    /// A few words for people.
+    pub fn describe(self) -> &'static str {
+        match self {
+            StopReason::Complete => "complete",
+            StopReason::FrontierBelowThreshold => "frontier below threshold",
+            StopReason::NoReachableFrontier => "no reachable frontier",
+            StopReason::ScanLimit => "scan limit",
+            StopReason::NoCpsMove => "no CPS move",
+            StopReason::StartRegionTooSmall => "start region too small",
+        }
+    }
 }
 
 /// One scan and the planning round that followed it.
@@ -138,6 +191,10 @@ pub struct Summary {
     pub wall_coverage: f64,
     /// Final coverage of all free space 4-connected to the start, reachable or not.
     pub connected_coverage: f64,
+    /// Free cells the robots can reach from the start (the coverage denominator).
+    pub reachable_free_cells: usize,
+    /// Free cells 4-connected to the start, reachable or not.
+    pub connected_free_cells: usize,
     /// Total length of the parent's driven paths, metres.
     pub parent_travel_m: f64,
     /// Why the episode ended.
@@ -201,8 +258,14 @@ pub fn run_episode_with(
     mut on_step: impl FnMut(&Step, &OccupancyGrid),
 ) -> Result<Episode, MissionError> {
     config.validate()?;
-    let truth = truth.solidified();
     let g = *truth.geometry();
+    config.check_grid(
+        g.width as u64,
+        g.height as u64,
+        g.resolution,
+        (g.origin.x, g.origin.y),
+    )?;
+    let truth = truth.solidified();
     let cell = g.world_to_cell(start).ok_or_else(|| {
         let (ex, ey) = g.extent();
         MissionError::StartOutsideMap {
@@ -293,6 +356,7 @@ pub fn run_episode_with(
         steps.push(step);
         match (decision, moved) {
             (Decision::Complete, _) => break StopReason::Complete,
+            (Decision::FrontierBelowThreshold, _) => break StopReason::FrontierBelowThreshold,
             (Decision::NoReachableFrontier, _) => break StopReason::NoReachableFrontier,
             (Decision::Target { .. }, _) if at_limit => break StopReason::ScanLimit,
             (Decision::Target { .. }, None) => break StopReason::NoCpsMove,
@@ -308,6 +372,19 @@ pub fn run_episode_with(
             }
         }
     };
+    let all_free = truth
+        .cells()
+        .iter()
+        .filter(|&&c| c == CellState::Free)
+        .count();
+    let region = tracker.free_total() as f64;
+    let small_region = region < START_REGION_SHARE * tracker.connected_total() as f64
+        || region < START_REGION_SHARE_OF_MAP * all_free as f64;
+    let stop_reason = if small_region && stop_reason != StopReason::ScanLimit {
+        StopReason::StartRegionTooSmall
+    } else {
+        stop_reason
+    };
     let final_sigma = steps.last().and_then(|s| s.position_sigma_m);
     let runs = config.accuracy.monte_carlo_runs;
     let mc = chain.monte_carlo(runs, config.seed);
@@ -322,6 +399,8 @@ pub fn run_episode_with(
         coverage: tracker.coverage(),
         wall_coverage: tracker.wall_coverage(),
         connected_coverage: tracker.connected_coverage(),
+        reachable_free_cells: tracker.free_total(),
+        connected_free_cells: tracker.connected_total(),
         parent_travel_m: travel,
         stop_reason,
         seed: config.seed,

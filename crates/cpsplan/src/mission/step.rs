@@ -9,7 +9,8 @@ use thiserror::Error;
 use super::accuracy::Tracker;
 use super::record::MoveRecord;
 use super::team;
-use crate::config::{Config, ConfigError};
+use crate::config::{number, Config, ConfigError};
+use crate::grid::GridGeometry;
 use crate::geom::{Cell, Point};
 use crate::grid::{CellState, OccupancyGrid};
 use crate::parent::{Decision, ParentPlan};
@@ -57,6 +58,38 @@ pub enum PlanError {
         /// Its y.
         y: f64,
     },
+    /// Two robots stand on the same cell of the planning grid.
+    #[error("{robot} at ({x}, {y}) stands on the same cell as the {other}")]
+    SameCell {
+        /// The later robot.
+        robot: String,
+        /// The robot already on that cell.
+        other: String,
+        /// Its x.
+        x: f64,
+        /// Its y.
+        y: f64,
+    },
+    /// A child is nearer to or farther from the parent than the CPS link range
+    /// allows (`children.min_range`, `children.max_range`, the instrument's
+    /// limits): the parent could not measure it.
+    #[error(
+        "{robot} is {} m from the parent, outside the link range of {} to {} m \
+         (children.min_range, children.max_range or the instrument's limits)",
+        number(*distance),
+        number(*min),
+        number(*max)
+    )]
+    OutOfLinkRange {
+        /// Which child.
+        robot: String,
+        /// Its distance from the parent, metres (cell centres).
+        distance: f64,
+        /// The shortest link, metres.
+        min: f64,
+        /// The longest link, metres.
+        max: f64,
+    },
 }
 
 /// Plans one step on a partial map: the same computation as the first step of
@@ -83,8 +116,16 @@ pub fn plan_step(
     children: &[Point],
     config: &Config,
 ) -> Result<StepPlan, PlanError> {
+    let mut config = *config;
+    config.children.count = children.len();
     config.validate()?;
     let g = *knowledge.geometry();
+    config.check_grid(
+        g.width as u64,
+        g.height as u64,
+        g.resolution,
+        (g.origin.x, g.origin.y),
+    )?;
     let locate = |robot: String, p: Point| -> Result<Cell, PlanError> {
         let cell = g.world_to_cell(p).ok_or(PlanError::OutsideMap {
             robot: robot.clone(),
@@ -106,8 +147,7 @@ pub fn plan_step(
         .enumerate()
         .map(|(i, &p)| locate(format!("child {}", i + 1), p))
         .collect::<Result<_, _>>()?;
-    let mut config = *config;
-    config.children.count = kids.len();
+    check_team(&g, here, &kids, children, &config)?;
     let mut rng = ChaCha8Rng::seed_from_u64(config.seed);
     let (mut plan, reach, groundwork) = team::plan_round(knowledge, here, &config, &mut rng);
     let mut tracker = Tracker::new(&config, g.cell_center(here));
@@ -133,4 +173,41 @@ pub fn plan_step(
         movement,
         predicted_position_sigma_m,
     })
+}
+
+/// Checks that no two robots share a cell and that every child is within the
+/// link range of the parent (cell centres), so the parent can measure it.
+fn check_team(
+    g: &GridGeometry,
+    parent: Cell,
+    kids: &[Cell],
+    positions: &[Point],
+    config: &Config,
+) -> Result<(), PlanError> {
+    let (min, max) = config.link_range();
+    let name = |i: usize| format!("child {}", i + 1);
+    for (i, (&cell, &p)) in kids.iter().zip(positions).enumerate() {
+        let same = |other: String| PlanError::SameCell {
+            robot: name(i),
+            other,
+            x: p.x,
+            y: p.y,
+        };
+        if cell == parent {
+            return Err(same("parent".into()));
+        }
+        if let Some(j) = kids[..i].iter().position(|&k| k == cell) {
+            return Err(same(name(j)));
+        }
+        let distance = g.cell_center(cell).distance(g.cell_center(parent));
+        if !(min..=max).contains(&distance) {
+            return Err(PlanError::OutOfLinkRange {
+                robot: name(i),
+                distance,
+                min,
+                max,
+            });
+        }
+    }
+    Ok(())
 }

@@ -43,6 +43,9 @@ pub enum Decision {
     },
     /// No border is left: the map is fully known.
     Complete,
+    /// Border is left, but only in fragments smaller than
+    /// `parent.min_frontier_cells` (section IV-A, step 1): nothing is worth a scan.
+    FrontierBelowThreshold,
     /// Border remains, but no reachable position would see anything new.
     NoReachableFrontier,
 }
@@ -121,9 +124,10 @@ pub fn plan_parent_with_reach(
             (trav, field)
         },
         || {
-            let border = significant_border(&g, &border_cells(knowledge), pc.min_frontier_cells);
+            let all = border_cells(knowledge);
+            let border = significant_border(&g, &all, pc.min_frontier_cells);
             if border.is_empty() {
-                return (border, None);
+                return (border, Err(all.len()));
             }
             let (band_cells, _) = band(knowledge, &border, pc.band_width);
 
@@ -131,7 +135,7 @@ pub fn plan_parent_with_reach(
             let samples = scatter(&g, &band_cells, pc, rng);
             let k = cluster_count(band_area(&g, band_cells.len()), pc);
             let clustering = kmeans(&samples, k, pc.kmeans_iterations, rng);
-            (border, Some((band_cells, samples, clustering)))
+            (border, Ok((band_cells, samples, clustering)))
         },
     );
     let mut plan = ParentPlan {
@@ -145,8 +149,14 @@ pub fn plan_parent_with_reach(
         path: Vec::new(),
         path_length_m: 0.0,
     };
-    let Some((band_cells, samples, clustering)) = stages else {
-        return (plan, ParentReach { trav, field });
+    let (band_cells, samples, clustering) = match stages {
+        Ok(stages) => stages,
+        Err(fragments) => {
+            if fragments > 0 {
+                plan.decision = Decision::FrontierBelowThreshold;
+            }
+            return (plan, ParentReach { trav, field });
+        }
     };
     plan.band_cells = band_cells.len();
     plan.clusters = clustering.centroids.len();

@@ -83,7 +83,9 @@ where
     if visit(base) {
         return true;
     }
-    let r = range_cells.max(0.0);
+    // No cell is farther than w + h: a longer range sees no more, and the bound
+    // keeps the squared radius far from overflow for any input.
+    let r = range_cells.max(0.0).min((w + h) as f64);
     // Squared radius in whole cells; a tiny epsilon keeps exact integer radii inside.
     let r2 = (r * r + 1e-9).floor() as i64;
     let max_r = (r2 as f64).sqrt().floor() as i64;
@@ -198,17 +200,10 @@ where
     }
 }
 
-/// Integer square root (floor).
+/// Integer square root (floor) of a non-negative number.
 #[inline]
 fn isqrt(n: i64) -> i64 {
-    let mut x = (n as f64).sqrt() as i64;
-    while x * x > n {
-        x -= 1;
-    }
-    while (x + 1) * (x + 1) <= n {
-        x += 1;
-    }
-    x
+    n.max(0).isqrt()
 }
 
 #[cfg(test)]

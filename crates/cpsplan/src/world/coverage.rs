@@ -129,6 +129,11 @@ impl CoverageTracker {
         self.free_total
     }
 
+    /// Number of free cells 4-connected to the start.
+    pub fn connected_total(&self) -> usize {
+        self.connected_total
+    }
+
     /// Whether cell `index` counts in the coverage denominator.
     pub fn is_reachable_free(&self, index: usize) -> bool {
         self.role[index] & REACHABLE != 0

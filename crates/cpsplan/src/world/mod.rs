@@ -13,5 +13,5 @@ mod start;
 
 pub use crate::grid::{CellState, GridGeometry, OccupancyGrid};
 pub use coverage::CoverageTracker;
-pub use resample::resample_conservative;
+pub use resample::{resample_conservative, resample_for, resampled_size};
 pub use start::default_start;

@@ -11,6 +11,7 @@
 //! Refining (target resolution finer than the source) is nearest-neighbour: every
 //! target cell takes the state of the source cell under its centre.
 
+use crate::config::{Config, ConfigError};
 use crate::grid::{CellState, GridGeometry, OccupancyGrid};
 
 /// Resolutions closer than this (metres) are treated as equal.
@@ -58,6 +59,38 @@ pub fn resample_conservative(grid: &OccupancyGrid, resolution: f64) -> Occupancy
         refine(grid, &geometry, scale)
     };
     OccupancyGrid::from_cells(geometry, cells).expect("cell count matches geometry")
+}
+
+/// [`resample_conservative`] to `config.resolution`, after checking the planning
+/// grid it would make against the configuration's limits
+/// ([`Config::check_grid`]): nothing is allocated for a grid beyond them.
+pub fn resample_for(grid: &OccupancyGrid, config: &Config) -> Result<OccupancyGrid, ConfigError> {
+    let (width, height) = resampled_size(grid.geometry(), config.resolution);
+    let o = grid.geometry().origin;
+    config.check_grid(width, height, config.resolution, (o.x, o.y))?;
+    Ok(resample_conservative(grid, config.resolution))
+}
+
+/// Columns and rows of `geometry` resampled to `resolution` (saturating: a
+/// size beyond `u64` is `u64::MAX`; non-finite or non-positive resolutions give
+/// `u64::MAX` too).
+pub fn resampled_size(geometry: &GridGeometry, resolution: f64) -> (u64, u64) {
+    if !(resolution.is_finite() && resolution > 0.0) {
+        return (u64::MAX, u64::MAX);
+    }
+    if (resolution - geometry.resolution).abs() <= SAME_RESOLUTION_TOLERANCE {
+        return (geometry.width as u64, geometry.height as u64);
+    }
+    let scale = geometry.resolution / resolution;
+    let len = |n: usize| {
+        if n == 0 {
+            0
+        } else {
+            // `as` saturates: infinities and huge values become u64::MAX.
+            (n as f64 * scale - CELL_EPSILON).ceil().max(1.0) as u64
+        }
+    };
+    (len(geometry.width), len(geometry.height))
 }
 
 /// Number of target cells covering `n` source cells, `scale` target cells each.

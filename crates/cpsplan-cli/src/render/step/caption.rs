@@ -54,6 +54,9 @@ pub(super) fn caption(
     let cycles = step.movement.cycles.len();
     match (plan.decision, step.target().and_then(|t| candidates.get(t))) {
         (Decision::Complete, _) => first.push("nothing left to scan".into()),
+        (Decision::FrontierBelowThreshold, _) => {
+            first.push("only border fragments below the threshold left".into())
+        }
         (Decision::NoReachableFrontier, _) => first.push("no reachable frontier".into()),
         (Decision::Target { .. }, Some(t)) => {
             first.push(format!(

@@ -2,8 +2,11 @@
 //! (section V: 0.1 m cells, 20 m scanner range, α = 0.01, β = 0.001) where it gives
 //! one, and documented choices (docs/DESIGN-CHOICES.md) where it is silent.
 
+mod bounds;
+
+pub use self::bounds::{number, Bound, ConfigError, BOUNDS, MAX_COORDINATE_M, MAX_GRID_SIDE};
+
 use serde::{Deserialize, Serialize};
-use thiserror::Error;
 
 /// How the terms of Eq. (1) are combined.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
@@ -281,6 +284,18 @@ pub enum InstrumentModel {
 }
 
 impl InstrumentModel {
+    /// The preset's shortest and longest measurable distance, metres (the
+    /// makers' figures; the rest of each preset is in
+    /// [`crate::accuracy::Instrument::preset`]).
+    pub fn range_m(self) -> (f64, f64) {
+        match self {
+            InstrumentModel::Gpt9005a => (1.3, 3000.0),
+            InstrumentModel::Ts16 | InstrumentModel::Ts60 => (1.5, 3500.0),
+            InstrumentModel::Ms05axii => (1.3, 3500.0),
+            InstrumentModel::FocusS350 => (0.6, 350.0),
+        }
+    }
+
     /// Every preset.
     pub const ALL: [InstrumentModel; 5] = [
         InstrumentModel::Gpt9005a,
@@ -324,6 +339,23 @@ impl Default for MissionConfig {
     }
 }
 
+/// Limits that keep a run within the machine (docs/USER-GUIDE.md "Limits").
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct LimitsConfig {
+    /// Most cells of the planning grid (and pixels of a map image). The default,
+    /// 150 million, holds a 1 km × 1 km site at 0.1 m with half again to spare.
+    pub max_grid_cells: usize,
+}
+
+impl Default for LimitsConfig {
+    fn default() -> Self {
+        Self {
+            max_grid_cells: 150_000_000,
+        }
+    }
+}
+
 /// All parameters of a run; printed into every run record.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
@@ -346,6 +378,8 @@ pub struct Config {
     pub instrument: InstrumentConfig,
     /// The accuracy model's options.
     pub accuracy: AccuracyConfig,
+    /// Size limits.
+    pub limits: LimitsConfig,
 }
 
 impl Default for Config {
@@ -360,116 +394,36 @@ impl Default for Config {
             mission: MissionConfig::default(),
             instrument: InstrumentConfig::default(),
             accuracy: AccuracyConfig::default(),
+            limits: LimitsConfig::default(),
         }
     }
 }
 
-/// A parameter outside its valid range.
-#[derive(Debug, Clone, PartialEq, Error)]
-#[error("invalid configuration: `{field}` {problem} (got {value})")]
-pub struct ConfigError {
-    /// The parameter's path, e.g. `scanner.range`.
-    pub field: &'static str,
-    /// What is wrong.
-    pub problem: &'static str,
-    /// The offending value.
-    pub value: String,
+impl InstrumentConfig {
+    /// The instrument's shortest and longest measurable distance, metres: the
+    /// preset's, or the configuration's where it gives them.
+    pub fn range_m(&self) -> (f64, f64) {
+        let (min, max) = self.model.range_m();
+        (self.min_range.unwrap_or(min), self.max_range.unwrap_or(max))
+    }
 }
 
 impl Config {
-    /// Checks every parameter's range.
-    pub fn validate(&self) -> Result<(), ConfigError> {
-        fn positive(field: &'static str, v: f64) -> Result<(), ConfigError> {
-            if v.is_finite() && v > 0.0 {
-                Ok(())
-            } else {
-                Err(ConfigError {
-                    field,
-                    problem: "must be a positive number",
-                    value: v.to_string(),
-                })
-            }
-        }
-        fn non_negative(field: &'static str, v: f64) -> Result<(), ConfigError> {
-            if v.is_finite() && v >= 0.0 {
-                Ok(())
-            } else {
-                Err(ConfigError {
-                    field,
-                    problem: "must be a non-negative number",
-                    value: v.to_string(),
-                })
-            }
-        }
-        fn at_least_one(field: &'static str, v: usize) -> Result<(), ConfigError> {
-            if v >= 1 {
-                Ok(())
-            } else {
-                Err(ConfigError {
-                    field,
-                    problem: "must be at least 1",
-                    value: v.to_string(),
-                })
-            }
-        }
-        positive("resolution", self.resolution)?;
-        positive("scanner.range", self.scanner.range)?;
-        non_negative("robot.radius", self.robot.radius)?;
-        non_negative("parent.alpha", self.parent.alpha)?;
-        non_negative("parent.beta", self.parent.beta)?;
-        non_negative("parent.gamma", self.parent.gamma)?;
-        at_least_one("parent.error_candidates", self.parent.error_candidates)?;
-        positive("parent.band_width", self.parent.band_width)?;
-        positive("parent.samples_per_m2", self.parent.samples_per_m2)?;
-        positive("parent.cluster_area", self.parent.cluster_area)?;
-        at_least_one("parent.max_samples", self.parent.max_samples)?;
-        at_least_one("parent.max_clusters", self.parent.max_clusters)?;
-        at_least_one("parent.kmeans_iterations", self.parent.kmeans_iterations)?;
-        at_least_one("parent.min_gain_cells", self.parent.min_gain_cells)?;
-        at_least_one("parent.min_frontier_cells", self.parent.min_frontier_cells)?;
-        at_least_one("mission.max_scans", self.mission.max_scans)?;
-        non_negative("children.radius", self.children.radius)?;
-        non_negative("children.alpha_c", self.children.alpha_c)?;
-        non_negative("children.beta_c", self.children.beta_c)?;
-        non_negative("children.theta_t_deg", self.children.theta_t_deg)?;
-        non_negative("children.d_t", self.children.d_t)?;
-        non_negative("children.min_range", self.children.min_range)?;
-        positive("children.clearance_cap", self.children.clearance_cap)?;
-        non_negative("children.sight_clearance", self.children.sight_clearance)?;
-        non_negative("children.travel_weight", self.children.travel_weight)?;
-        non_negative("children.marker_radius", self.children.marker_radius)?;
-        let i = &self.instrument;
-        for (field, v) in [
-            ("instrument.distance_sigma_mm", i.distance_sigma_mm),
-            ("instrument.distance_ppm", i.distance_ppm),
-            ("instrument.angle_sigma_arcsec", i.angle_sigma_arcsec),
-            ("instrument.min_range", i.min_range),
-        ] {
-            if let Some(v) = v {
-                non_negative(field, v)?;
-            }
-        }
-        if let Some(m) = i.max_range {
-            positive("instrument.max_range", m)?;
-        }
-        non_negative("instrument.instrument_height", i.instrument_height)?;
-        non_negative("instrument.marker_height", i.marker_height)?;
-        if let Some(m) = self.children.max_range {
-            positive("children.max_range", m)?;
-        }
-        if self.parent.band_width <= self.robot.radius {
-            return Err(ConfigError {
-                field: "parent.band_width",
-                problem: "must be wider than robot.radius",
-                value: self.parent.band_width.to_string(),
-            });
-        }
-        Ok(())
-    }
-
     /// Scanner range in cells of the planning grid.
     pub fn range_cells(&self) -> f64 {
         self.scanner.range / self.resolution
+    }
+
+    /// The shortest and longest parent–child link, metres: `children.min_range`
+    /// and `children.max_range` (the scanner's range when absent), within the
+    /// instrument's own limits.
+    pub fn link_range(&self) -> (f64, f64) {
+        let (imin, imax) = self.instrument.range_m();
+        let c = &self.children;
+        (
+            c.min_range.max(imin),
+            c.max_range.unwrap_or(self.scanner.range).min(imax),
+        )
     }
 }
 
@@ -490,7 +444,7 @@ mod tests {
         let mut c = Config::default();
         c.scanner.range = -1.0;
         let e = c.validate().unwrap_err();
-        assert_eq!(e.field, "scanner.range");
+        assert_eq!(e.key(), "scanner.range");
         assert!(e.to_string().contains("scanner.range"));
     }
 
