@@ -5,9 +5,9 @@ use std::path::PathBuf;
 
 use anyhow::Result;
 use clap::{Args, Parser, Subcommand, ValueEnum};
-use cpsplan::config::{ChildStrategy, InstrumentModel};
+use cpsplan::config::{ChildStrategy, InstrumentModel, Scoring};
 use cpsplan::world::builtin::BuiltinMap;
-use cpsplan::Point;
+use cpsplan::{Config, Point};
 
 use crate::commands;
 
@@ -50,16 +50,22 @@ pub struct PlanArgs {
     #[arg(long, value_name = "FILE")]
     pub config: Option<PathBuf>,
     /// Planning resolution in metres per cell.
-    #[arg(long, value_name = "M", allow_hyphen_values = true)]
+    #[arg(long, value_name = "M", allow_hyphen_values = true, value_parser = parse_real,
+          help = with_default("Planning resolution in metres per cell", defaults().resolution))]
     pub resolution: Option<f64>,
     /// Seed of the planner's random choices.
-    #[arg(long, value_name = "N")]
+    #[arg(long, value_name = "N", allow_hyphen_values = true, value_parser = parse_seed,
+          help = with_default("Seed of the planner's random choices", defaults().seed))]
     pub seed: Option<u64>,
     /// The instrument measuring the CPS links (see `cpsplan instruments`).
-    #[arg(long, value_name = "NAME", value_parser = parse_instrument)]
+    #[arg(long, value_name = "NAME", value_parser = parse_instrument,
+          help = with_default("The instrument measuring the CPS links (see `cpsplan instruments`)",
+                              defaults().instrument.model.name()))]
     pub instrument: Option<InstrumentModel>,
     /// How the children's spots are chosen.
-    #[arg(long, value_name = "STRATEGY", value_parser = parse_strategy)]
+    #[arg(long, value_name = "STRATEGY", value_parser = parse_strategy,
+          help = with_default("How the children's spots are chosen: random, balanced, angle, distance or min-error",
+                              defaults().children.strategy.name()))]
     pub child_strategy: Option<ChildStrategy>,
     /// Also draw the planned step as a PNG figure (map, candidates, AND regions,
     /// subgoals, every robot's path) into this file.
@@ -74,7 +80,9 @@ pub struct ExploreArgs {
     #[arg(long, value_name = "FILE", conflicts_with = "builtin")]
     pub map: Option<PathBuf>,
     /// Built-in map (office, site, tunnel); the default when no --map is given.
-    #[arg(long, value_name = "NAME")]
+    #[arg(long, value_name = "NAME",
+          help = with_default("Built-in map (office, site, tunnel), used when no --map is given",
+                              BuiltinMap::DEFAULT.name()))]
     pub builtin: Option<BuiltinMap>,
     /// Start position of the parent, world frame metres: X,Y.
     #[arg(long, value_name = "X,Y", value_parser = parse_point, allow_hyphen_values = true)]
@@ -83,47 +91,68 @@ pub struct ExploreArgs {
     #[arg(long, value_name = "FILE")]
     pub config: Option<PathBuf>,
     /// Weight α of the travel term of Eq. (1).
-    #[arg(long, value_name = "A", allow_hyphen_values = true)]
+    #[arg(long, value_name = "A", allow_hyphen_values = true, value_parser = parse_real,
+          help = with_default("Weight \u{3b1} of the travel term of Eq. (1)", defaults().parent.alpha))]
     pub alpha: Option<f64>,
     /// Weight β of the expected-gain term of Eq. (1).
-    #[arg(long, value_name = "B", allow_hyphen_values = true)]
+    #[arg(long, value_name = "B", allow_hyphen_values = true, value_parser = parse_real,
+          help = with_default("Weight \u{3b2} of the expected-gain term of Eq. (1)", defaults().parent.beta))]
     pub beta: Option<f64>,
     /// How Eq. (1) combines its terms.
-    #[arg(long, value_enum)]
+    #[arg(long, value_enum,
+          help = with_default("How Eq. (1) combines its terms", scoring_name(defaults().parent.scoring)))]
     pub scoring: Option<ScoringArg>,
     /// Scanner range in metres.
-    #[arg(long, value_name = "M", allow_hyphen_values = true)]
+    #[arg(long, value_name = "M", allow_hyphen_values = true, value_parser = parse_real,
+          help = with_default("Scanner range in metres", defaults().scanner.range))]
     pub range: Option<f64>,
     /// Planning resolution in metres per cell (maps are resampled to it).
-    #[arg(long, value_name = "M", allow_hyphen_values = true)]
+    #[arg(long, value_name = "M", allow_hyphen_values = true, value_parser = parse_real,
+          help = with_default("Planning resolution in metres per cell (maps are resampled to it)",
+                              defaults().resolution))]
     pub resolution: Option<f64>,
     /// Robot radius in metres.
-    #[arg(long, value_name = "M", allow_hyphen_values = true)]
+    #[arg(long, value_name = "M", allow_hyphen_values = true, value_parser = parse_real,
+          help = with_default("Robot radius in metres", defaults().robot.radius))]
     pub radius: Option<f64>,
     /// Stop after this many scans.
-    #[arg(long, value_name = "N")]
+    #[arg(long, value_name = "N", allow_hyphen_values = true, value_parser = parse_count,
+          help = with_default("Stop after this many scans", defaults().mission.max_scans))]
     pub max_scans: Option<usize>,
-    /// Number of child robots (default 2); every move runs as CPS cycles with them, 0 lets the parent move alone.
-    #[arg(long, value_name = "N")]
+    /// Number of child robots; every move runs as CPS cycles with them, 0 lets
+    /// the parent move alone.
+    #[arg(long, value_name = "N", allow_hyphen_values = true, value_parser = parse_count,
+          help = with_default("Number of child robots; every move runs as CPS cycles with them, 0 lets the parent move alone",
+                              defaults().children.count))]
     pub children: Option<usize>,
     /// How the children's spots are chosen: random, balanced (Eq. 2, αc = βc, the
     /// default), angle (αc ≫ βc), distance (αc ≪ βc), or min-error (the spots
     /// that minimise the predicted error of the parent's next pose).
-    #[arg(long, value_name = "STRATEGY", value_parser = parse_strategy)]
+    #[arg(long, value_name = "STRATEGY", value_parser = parse_strategy,
+          help = with_default("How the children's spots are chosen: random, balanced (Eq. 2, \u{3b1}c = \u{3b2}c), \
+                               angle (\u{3b1}c \u{226b} \u{3b2}c), distance (\u{3b1}c \u{226a} \u{3b2}c), or min-error \
+                               (the spots that minimise the predicted error of the parent's next pose)",
+                              defaults().children.strategy.name()))]
     pub child_strategy: Option<ChildStrategy>,
     /// The instrument measuring the CPS links (see `cpsplan instruments`).
-    #[arg(long, value_name = "NAME", value_parser = parse_instrument)]
+    #[arg(long, value_name = "NAME", value_parser = parse_instrument,
+          help = with_default("The instrument measuring the CPS links (see `cpsplan instruments`)",
+                              defaults().instrument.model.name()))]
     pub instrument: Option<InstrumentModel>,
     /// Monte Carlo runs of the campaign's CPS chain with real measurement noise
     /// (mean error per scan in the records; 0: none).
-    #[arg(long, value_name = "N")]
+    #[arg(long, value_name = "N", allow_hyphen_values = true, value_parser = parse_count,
+          help = with_default("Monte Carlo runs of the campaign's CPS chain with real measurement noise \
+                               (mean error per scan in the records; 0: none)",
+                              defaults().accuracy.monte_carlo_runs))]
     pub monte_carlo: Option<usize>,
     /// Seed of every random choice (and of the built-in map's layout).
-    #[arg(long, value_name = "N")]
+    #[arg(long, value_name = "N", allow_hyphen_values = true, value_parser = parse_seed,
+          help = with_default("Seed of every random choice (and of the built-in map's layout)", defaults().seed))]
     pub seed: Option<u64>,
     /// Draw the planning step after scan N as `step-NNN.png` in the output
     /// directory (repeat the flag or give a comma list: 2,5,9).
-    #[arg(long, value_name = "N", value_delimiter = ',', value_parser = parse_scan_number)]
+    #[arg(long, value_name = "N", value_delimiter = ',', value_parser = parse_scan_number, allow_hyphen_values = true)]
     pub step_figure: Vec<usize>,
     /// Output directory.
     #[arg(long, value_name = "DIR", default_value = "out")]
@@ -149,8 +178,48 @@ pub struct MapsArgs {
     #[arg(long, value_name = "DIR")]
     pub export: Option<PathBuf>,
     /// Seed of the maps' layouts.
-    #[arg(long, value_name = "N", default_value_t = 0)]
+    #[arg(long, value_name = "N", default_value_t = 0, allow_hyphen_values = true, value_parser = parse_seed)]
     pub seed: u64,
+}
+
+/// The default configuration, for the defaults shown in `--help`.
+fn defaults() -> Config {
+    Config::default()
+}
+
+/// A flag's help line with its default value.
+fn with_default(help: &str, default: impl std::fmt::Display) -> String {
+    format!("{help} [default: {default}]")
+}
+
+fn scoring_name(s: Scoring) -> &'static str {
+    match s {
+        Scoring::Normalized => "normalized",
+        Scoring::Literal => "literal",
+    }
+}
+
+/// A finite number (ranges are checked with the whole configuration).
+fn parse_real(s: &str) -> Result<f64, String> {
+    match s.trim().parse::<f64>() {
+        Ok(v) if v.is_finite() => Ok(v),
+        Ok(_) => Err("expected a finite number".to_string()),
+        Err(_) => Err("expected a number".to_string()),
+    }
+}
+
+/// A whole number, 0 or more.
+fn parse_count(s: &str) -> Result<usize, String> {
+    s.trim()
+        .parse::<usize>()
+        .map_err(|_| "expected a whole number, 0 or more".to_string())
+}
+
+/// A seed: a whole number from 0 to 2^64 - 1.
+fn parse_seed(s: &str) -> Result<u64, String> {
+    s.trim()
+        .parse::<u64>()
+        .map_err(|_| "expected a whole number from 0 to 18446744073709551615".to_string())
 }
 
 fn parse_point(s: &str) -> Result<Point, String> {
@@ -197,9 +266,84 @@ fn parse_scan_number(s: &str) -> Result<usize, String> {
     }
 }
 
+/// A command line that could not be parsed, in one line.
+#[derive(Debug, thiserror::Error)]
+#[error("{0}")]
+pub struct UsageError(pub String);
+
+/// Parses `args` (the program name first); help and version requests print
+/// and exit, every other problem becomes a one-line [`UsageError`].
+pub fn parse<I, T>(args: I) -> Result<Cli>
+where
+    I: IntoIterator<Item = T>,
+    T: Into<std::ffi::OsString> + Clone,
+{
+    use clap::error::ErrorKind;
+    let args: Vec<std::ffi::OsString> = args.into_iter().map(Into::into).collect();
+    let command = args
+        .iter()
+        .skip(1)
+        .filter_map(|a| a.to_str())
+        .find(|a| ["explore", "plan", "maps", "instruments"].contains(a))
+        .map_or_else(|| "cpsplan".to_string(), |c| format!("cpsplan {c}"));
+    match Cli::try_parse_from(args) {
+        Ok(cli) => Ok(cli),
+        Err(e) => match e.kind() {
+            ErrorKind::DisplayHelp
+            | ErrorKind::DisplayVersion
+            | ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand => e.exit(),
+            _ => Err(UsageError(usage_line(&e.render().to_string(), &command)).into()),
+        },
+    }
+}
+
+/// Clap's several-line message as one line: the error, and where to find help.
+fn usage_line(rendered: &str, command: &str) -> String {
+    // The message is everything before the first blank line (a list of missing
+    // arguments follows its first line).
+    let message: Vec<&str> = rendered
+        .lines()
+        .map(str::trim)
+        .skip_while(|l| l.is_empty())
+        .take_while(|l| !l.is_empty())
+        .collect();
+    let first = message.join(" ");
+    let first = first.strip_prefix("error: ").unwrap_or(&first);
+    let first = if first.is_empty() {
+        "bad arguments"
+    } else {
+        first
+    };
+    let tip = rendered
+        .lines()
+        .map(str::trim)
+        .find_map(|l| l.strip_prefix("tip: "))
+        .map(|t| format!(" ({t})"))
+        .unwrap_or_default();
+    format!("{first}{tip}; see `{command} --help`")
+}
+
+/// An error and its causes on one line, each cause once: a cause whose text the
+/// message already holds (many errors repeat their source) is left out.
+pub fn one_line(error: &anyhow::Error) -> String {
+    let mut line = String::new();
+    for cause in error.chain() {
+        let text = cause.to_string();
+        let text = text.trim();
+        if text.is_empty() || line.contains(text) {
+            continue;
+        }
+        if !line.is_empty() {
+            line.push_str(": ");
+        }
+        line.push_str(text);
+    }
+    line.replace('\n', " ")
+}
+
 /// Parses the process arguments and runs the command.
 pub fn run() -> Result<()> {
-    match Cli::parse().command {
+    match parse(std::env::args_os())?.command {
         Command::Explore(args) => commands::explore::run(&args),
         Command::Maps(args) => commands::maps::run(&args),
         Command::Plan(args) => commands::plan::run(&args),

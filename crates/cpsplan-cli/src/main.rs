@@ -6,7 +6,7 @@ fn main() -> ExitCode {
     match cpsplan_cli::cli::run() {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
-            eprintln!("error: {e:#}");
+            eprintln!("error: {}", cpsplan_cli::cli::one_line(&e));
             ExitCode::from(2)
         }
     }

@@ -1,6 +1,7 @@
 //! The report of an explored episode: `summary.json`, `episode.json`, `metrics.csv`,
-//! `map.png` and the final knowledge map as ROS map_server PGM+YAML. Every file is
-//! written under a temporary name and renamed into place.
+//! `map.png` and the final knowledge map as ROS map_server PGM+YAML. The report
+//! is written whole into a temporary directory beside `--out` ([`ReportDir`])
+//! and moved into place at the end: a failed run leaves nothing behind.
 
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -84,21 +85,53 @@ struct EpisodeRecord<'a> {
 
 /// Writes `bytes` to `path` through a temporary file in the same directory.
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
+    write_temp(path, bytes)?.persist(path)
+}
+
+/// A file written under a temporary name beside its destination, removed
+/// unless [`TempFile::persist`] moves it into place.
+#[derive(Debug)]
+pub struct TempFile {
+    tmp: PathBuf,
+    persisted: bool,
+}
+
+impl TempFile {
+    /// Renames the file to `path`.
+    pub fn persist(mut self, path: &Path) -> Result<()> {
+        std::fs::rename(&self.tmp, path)
+            .with_context(|| format!("cannot write {}", path.display()))?;
+        self.persisted = true;
+        Ok(())
+    }
+}
+
+impl Drop for TempFile {
+    fn drop(&mut self) {
+        if !self.persisted {
+            let _ = std::fs::remove_file(&self.tmp);
+        }
+    }
+}
+
+/// Writes `bytes` to a temporary file beside `path` (`.NAME.PID.tmp`).
+pub fn write_temp(path: &Path, bytes: &[u8]) -> Result<TempFile> {
     let name = path
         .file_name()
         .map(|n| n.to_string_lossy().into_owned())
         .unwrap_or_else(|| "output".into());
-    let tmp = path.with_file_name(format!(".{name}.tmp"));
-    let result = (|| -> std::io::Result<()> {
-        let mut f = std::fs::File::create(&tmp)?;
+    let tmp = path.with_file_name(format!(".{name}.{}.tmp", std::process::id()));
+    let file = TempFile {
+        tmp,
+        persisted: false,
+    };
+    (|| -> std::io::Result<()> {
+        let mut f = std::fs::File::create(&file.tmp)?;
         f.write_all(bytes)?;
-        f.sync_all()?;
-        std::fs::rename(&tmp, path)
-    })();
-    if result.is_err() {
-        let _ = std::fs::remove_file(&tmp);
-    }
-    result.with_context(|| format!("cannot write {}", path.display()))
+        f.sync_all()
+    })()
+    .with_context(|| format!("cannot write {}", path.display()))?;
+    Ok(file)
 }
 
 /// One row of `metrics.csv`.
@@ -155,6 +188,173 @@ pub fn metrics_csv(episode: &Episode) -> Result<Vec<u8>> {
         })?;
     }
     w.into_inner().map_err(|e| anyhow::anyhow!("{e}"))
+}
+
+/// Every file name a report may hold (besides `step-NNN.png`).
+pub const REPORT_FILES: [&str; 9] = [
+    "summary.json",
+    "episode.json",
+    "metrics.csv",
+    "map.png",
+    "map-large.png",
+    "error.png",
+    "error.svg",
+    "knowledge.pgm",
+    "knowledge.yaml",
+];
+
+/// Whether `name` is a file a report may hold.
+pub fn is_report_file(name: &str) -> bool {
+    REPORT_FILES.contains(&name)
+        || name
+            .strip_prefix("step-")
+            .and_then(|n| n.strip_suffix(".png"))
+            .is_some_and(|n| n.len() >= 3 && n.bytes().all(|b| b.is_ascii_digit()))
+}
+
+/// A report being written: a temporary directory beside its destination
+/// (`.NAME.cpsplan-tmp-PID`), moved into place by [`ReportDir::commit`] and
+/// removed if dropped before.
+///
+/// An existing destination is replaced whole, but only if it is empty or holds
+/// nothing but report files (an earlier report): any other file makes
+/// [`ReportDir::create`] refuse, so a mistyped `--out` never deletes a user's
+/// files.
+#[derive(Debug)]
+pub struct ReportDir {
+    out: PathBuf,
+    tmp: PathBuf,
+    committed: bool,
+}
+
+impl ReportDir {
+    /// Checks the destination `out` and creates the temporary directory.
+    pub fn create(out: &Path) -> Result<Self> {
+        check_replaceable(out)?;
+        let name = out
+            .file_name()
+            .map(|n| n.to_string_lossy().into_owned())
+            .filter(|n| n != "..")
+            .with_context(|| {
+                format!(
+                    "--out {}: needs a directory name, e.g. out/run1",
+                    out.display()
+                )
+            })?;
+        let parent = match out.parent() {
+            Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
+            _ => PathBuf::from("."),
+        };
+        std::fs::create_dir_all(&parent)
+            .with_context(|| format!("cannot create directory {}", parent.display()))?;
+        remove_stale(&parent, &name);
+        let tmp = parent.join(format!(".{name}.cpsplan-tmp-{}", std::process::id()));
+        if tmp.exists() {
+            let _ = std::fs::remove_dir_all(&tmp);
+        }
+        std::fs::create_dir(&tmp)
+            .with_context(|| format!("cannot create directory {}", tmp.display()))?;
+        Ok(Self {
+            out: out.to_path_buf(),
+            tmp,
+            committed: false,
+        })
+    }
+
+    /// Where the files go until the commit.
+    pub fn path(&self) -> &Path {
+        &self.tmp
+    }
+
+    /// Moves the finished report to its destination, replacing an earlier
+    /// report there.
+    pub fn commit(mut self) -> Result<()> {
+        check_replaceable(&self.out)?;
+        let old = self.tmp.with_file_name(
+            self.tmp
+                .file_name()
+                .map(|n| n.to_string_lossy().replace("cpsplan-tmp", "cpsplan-old"))
+                .unwrap_or_default(),
+        );
+        let had_old = self.out.exists();
+        if had_old {
+            std::fs::rename(&self.out, &old)
+                .with_context(|| format!("cannot replace {}", self.out.display()))?;
+        }
+        if let Err(e) = std::fs::rename(&self.tmp, &self.out) {
+            if had_old {
+                let _ = std::fs::rename(&old, &self.out);
+            }
+            return Err(e).with_context(|| format!("cannot write {}", self.out.display()));
+        }
+        self.committed = true;
+        if had_old {
+            let _ = std::fs::remove_dir_all(&old);
+        }
+        Ok(())
+    }
+}
+
+impl Drop for ReportDir {
+    fn drop(&mut self) {
+        if !self.committed {
+            let _ = std::fs::remove_dir_all(&self.tmp);
+        }
+    }
+}
+
+/// Refuses a destination that is not a directory, or a directory holding
+/// anything but report files.
+fn check_replaceable(out: &Path) -> Result<()> {
+    let meta = match std::fs::symlink_metadata(out) {
+        Ok(m) => m,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(()),
+        Err(e) => return Err(e).with_context(|| format!("cannot read {}", out.display())),
+    };
+    if !meta.is_dir() {
+        anyhow::bail!(
+            "--out {} exists and is not a directory; choose another --out",
+            out.display()
+        );
+    }
+    let entries =
+        std::fs::read_dir(out).with_context(|| format!("cannot read {}", out.display()))?;
+    for entry in entries {
+        let entry = entry.with_context(|| format!("cannot read {}", out.display()))?;
+        let name = entry.file_name().to_string_lossy().into_owned();
+        let file = entry.file_type().is_ok_and(|t| t.is_file());
+        if !(file && is_report_file(&name)) {
+            anyhow::bail!(
+                "--out {} holds `{name}`, which is not part of a cpsplan report; \
+                 choose an empty or new directory (an earlier report there is replaced whole)",
+                out.display()
+            );
+        }
+    }
+    Ok(())
+}
+
+/// Removes temporary directories of `name` left by runs that no longer exist
+/// (killed before they could clean up).
+fn remove_stale(parent: &Path, name: &str) {
+    let Ok(entries) = std::fs::read_dir(parent) else {
+        return;
+    };
+    let proc = Path::new("/proc");
+    if !proc.is_dir() {
+        return;
+    }
+    for entry in entries.flatten() {
+        let file = entry.file_name().to_string_lossy().into_owned();
+        let pid = file
+            .strip_prefix(&format!(".{name}.cpsplan-tmp-"))
+            .or_else(|| file.strip_prefix(&format!(".{name}.cpsplan-old-")));
+        if let Some(pid) = pid.filter(|p| p.bytes().all(|b| b.is_ascii_digit())) {
+            if !proc.join(pid).exists() {
+                let _ = std::fs::remove_dir_all(entry.path());
+            }
+        }
+    }
 }
 
 /// Writes every output of an episode into `dir` (created if needed).

@@ -2,18 +2,18 @@
 
 use std::time::Instant;
 
-use anyhow::{bail, Result};
+use anyhow::{anyhow, bail, Result};
 use cpsplan::config::Scoring;
+use cpsplan::mission::{Summary, START_REGION_SHARE};
 use cpsplan::world::builtin::BuiltinMap;
-use cpsplan::world::{default_start, resample_conservative};
-use cpsplan::{run_episode_with, Config, OccupancyGrid, Point};
+use cpsplan::world::{default_start, resample_for};
+use cpsplan::{run_episode_with, Config, OccupancyGrid, Point, StopReason};
 use indicatif::{ProgressBar, ProgressStyle};
 
-use super::read_config;
+use super::{load_planning_grid, read_config, validate};
 use crate::cli::{ExploreArgs, ScoringArg};
-use crate::formats::rosmap::load_any;
 use crate::render::{render_step, StepView};
-use crate::report::{write_atomic, write_episode_outputs, MapSource};
+use crate::report::{write_atomic, write_episode_outputs, MapSource, ReportDir};
 
 /// The file name of the figure of the step after scan `n`: `step-007.png`.
 pub fn step_figure_name(n: usize) -> String {
@@ -22,7 +22,7 @@ pub fn step_figure_name(n: usize) -> String {
 
 /// Builds the run's configuration: defaults, then the TOML file, then flags.
 pub fn build_config(args: &ExploreArgs) -> Result<Config> {
-    let mut config = read_config(args.config.as_deref())?;
+    let mut config = read_config(args.config.as_deref())?.config;
     if let Some(a) = args.alpha {
         config.parent.alpha = a;
     }
@@ -62,7 +62,23 @@ pub fn build_config(args: &ExploreArgs) -> Result<Config> {
     if let Some(s) = args.seed {
         config.seed = s;
     }
-    config.validate()?;
+    validate(
+        &config,
+        &[
+            ("parent.alpha", "--alpha", args.alpha.is_some()),
+            ("parent.beta", "--beta", args.beta.is_some()),
+            ("scanner.range", "--range", args.range.is_some()),
+            ("resolution", "--resolution", args.resolution.is_some()),
+            ("robot.radius", "--radius", args.radius.is_some()),
+            ("mission.max_scans", "--max-scans", args.max_scans.is_some()),
+            ("children.count", "--children", args.children.is_some()),
+            (
+                "accuracy.monte_carlo_runs",
+                "--monte-carlo",
+                args.monte_carlo.is_some(),
+            ),
+        ],
+    )?;
     Ok(config)
 }
 
@@ -73,14 +89,14 @@ fn load_truth(
 ) -> Result<(OccupancyGrid, MapSource, Option<Point>)> {
     match &args.map {
         Some(path) => {
-            let grid = load_any(path, config.resolution)?;
-            let truth = resample_conservative(&grid, config.resolution);
+            let truth = load_planning_grid(path, config)?;
             Ok((truth, MapSource::File(path.clone()), None))
         }
         None => {
             let map = args.builtin.unwrap_or(BuiltinMap::DEFAULT);
             let grid = map.generate(config.seed);
-            let truth = resample_conservative(&grid, config.resolution);
+            let truth = resample_for(&grid, config)
+                .map_err(|e| anyhow!("built-in map `{}`: {e}", map.name()))?;
             Ok((truth, MapSource::Builtin(map), Some(map.default_start())))
         }
     }
@@ -89,6 +105,8 @@ fn load_truth(
 /// Runs the episode and writes its report.
 pub fn run(args: &ExploreArgs) -> Result<()> {
     let config = build_config(args)?;
+    // Refuses an unusable --out before the run, not after it.
+    let report = ReportDir::create(&args.out)?;
     let (truth, source, builtin_start) = load_truth(args, &config)?;
     let start = match args.start.or(builtin_start) {
         Some(p) => p,
@@ -130,10 +148,11 @@ pub fn run(args: &ExploreArgs) -> Result<()> {
     if let Some((scan, e)) = figure_error {
         bail!("cannot draw the figure of step {scan}: {e}");
     }
-    write_episode_outputs(&args.out, &truth, &source, &episode, wall_ms)?;
+    write_episode_outputs(report.path(), &truth, &source, &episode, wall_ms)?;
     for (scan, png) in &figures {
-        write_atomic(&args.out.join(step_figure_name(*scan)), png)?;
+        write_atomic(&report.path().join(step_figure_name(*scan)), png)?;
     }
+    report.commit()?;
     let scans = episode.steps.len();
     let mut missing: Vec<usize> = args
         .step_figure
@@ -176,5 +195,52 @@ pub fn run(args: &ExploreArgs) -> Result<()> {
         }
         println!("report written to {}", args.out.display());
     }
+    if let Some(w) = coverage_warning(&episode.summary) {
+        eprintln!("warning: {w}");
+    }
     Ok(())
+}
+
+/// The warning for an episode whose scans cover less than 90 % of the free
+/// space connected to the start, with what the stop reason says about it.
+pub fn coverage_warning(s: &Summary) -> Option<String> {
+    if s.connected_coverage >= 0.9 {
+        return None;
+    }
+    let why = match s.stop_reason {
+        StopReason::StartRegionTooSmall => {
+            let (part, whole, of) = if (s.reachable_free_cells as f64)
+                < START_REGION_SHARE * s.connected_free_cells as f64
+            {
+                (
+                    s.reachable_free_cells,
+                    s.connected_free_cells,
+                    "connected to the start",
+                )
+            } else {
+                (s.reachable_free_cells, s.map_free_cells, "of the whole map")
+            };
+            format!(
+                "the robots can reach only {part} of the {whole} free cells {of}; \
+                 check --start, --radius and the map"
+            )
+        }
+        StopReason::ScanLimit => "the scan limit ended the episode (--max-scans)".into(),
+        StopReason::FrontierBelowThreshold => {
+            "only border fragments below parent.min_frontier_cells were left".into()
+        }
+        StopReason::NoCpsMove => {
+            "no target could be reached by CPS cycles (see the children's link range)".into()
+        }
+        StopReason::NoReachableFrontier => {
+            "no reachable position would see anything new (narrow passages for --radius?)".into()
+        }
+        StopReason::Complete => "the rest lies beyond what the robots can reach".into(),
+    };
+    Some(format!(
+        "the scans cover {:.1} % of the free space connected to the start (less than 90 %, \
+         stop: {}): {why}",
+        s.connected_coverage * 100.0,
+        s.stop_reason.name()
+    ))
 }

@@ -8,18 +8,45 @@ pub mod plan;
 
 use std::path::Path;
 
-use anyhow::{Context, Result};
-use cpsplan::Config;
+use anyhow::{anyhow, Result};
+use cpsplan::world::resample_for;
+use cpsplan::{Config, OccupancyGrid};
+
+use crate::formats::config::{read_config_file, ConfigFile};
+use crate::formats::rosmap::{load_any_with, ReadLimits};
 
 /// Reads a TOML configuration file, or the defaults.
-pub(crate) fn read_config(path: Option<&Path>) -> Result<Config> {
+pub(crate) fn read_config(path: Option<&Path>) -> Result<ConfigFile> {
     match path {
         Some(path) => {
-            let text = std::fs::read_to_string(path)
-                .with_context(|| format!("cannot read config file {}", path.display()))?;
-            toml::from_str::<Config>(&text)
-                .map_err(|e| anyhow::anyhow!("config file {}: {}", path.display(), e.message()))
+            let limits = ReadLimits::default();
+            Ok(read_config_file(path, limits.max_text_bytes)?)
         }
-        None => Ok(Config::default()),
+        None => Ok(ConfigFile {
+            config: Config::default(),
+            keys: Default::default(),
+        }),
     }
+}
+
+/// Validates the configuration of a run; a problem with a value given by a
+/// flag names the flag (`flags`: configuration key, flag, whether it was given).
+pub(crate) fn validate(config: &Config, flags: &[(&str, &str, bool)]) -> Result<()> {
+    config.validate().map_err(|e| {
+        match flags
+            .iter()
+            .find(|(key, _, given)| *given && *key == e.key())
+        {
+            Some((_, flag, _)) => anyhow!("{flag}: {e}"),
+            None => anyhow!(e),
+        }
+    })
+}
+
+/// Loads a map file (ROS YAML or plain image at `config.resolution`) within the
+/// configuration's limits and resamples it to the planning resolution; a grid
+/// beyond `limits.max_grid_cells` is refused before it is allocated.
+pub(crate) fn load_planning_grid(path: &Path, config: &Config) -> Result<OccupancyGrid> {
+    let grid = load_any_with(path, config.resolution, &ReadLimits::for_config(config))?;
+    resample_for(&grid, config).map_err(|e| anyhow!("{}: {e}", path.display()))
 }

@@ -1,17 +1,33 @@
 //! `cpsplan plan`: one step for a real team on a partial map, printed as JSON.
 
-use anyhow::{Context, Result};
-use cpsplan::world::resample_conservative;
+use std::io::Write as _;
 
-use super::read_config;
+use anyhow::{bail, Context, Result};
+
+use super::{load_planning_grid, read_config, validate};
 use crate::cli::PlanArgs;
-use crate::formats::rosmap::load_any;
 use crate::render::{render_step, StepView};
-use crate::report::write_atomic;
+use crate::report::write_temp;
 
-/// Plans the step and prints it; with `--figure`, draws it too.
+/// Plans the step and prints it; with `--figure`, draws it too. The figure
+/// is moved into place only once the plan has been printed.
 pub fn run(args: &PlanArgs) -> Result<()> {
-    let mut config = read_config(args.config.as_deref())?;
+    let file = read_config(args.config.as_deref())?;
+    let mut config = file.config;
+    if file.sets("children.count") && config.children.count != args.children.len() {
+        bail!(
+            "the config file sets children.count = {}, but {} --child position{} given; \
+             give one --child per child or remove children.count from the file",
+            config.children.count,
+            args.children.len(),
+            if args.children.len() == 1 {
+                " is"
+            } else {
+                "s are"
+            }
+        );
+    }
+    config.children.count = args.children.len();
     if let Some(r) = args.resolution {
         config.resolution = r;
     }
@@ -24,25 +40,37 @@ pub fn run(args: &PlanArgs) -> Result<()> {
     if let Some(m) = args.instrument {
         config.instrument.model = m;
     }
-    config.validate()?;
-    let grid = load_any(&args.known, config.resolution)?;
-    let known = resample_conservative(&grid, config.resolution);
+    validate(
+        &config,
+        &[
+            ("resolution", "--resolution", args.resolution.is_some()),
+            ("children.count", "--child", true),
+        ],
+    )?;
+    let known = load_planning_grid(&args.known, &config)?;
     let step = cpsplan::mission::plan_step(&known, args.parent, &args.children, &config)?;
-    if let Some(path) = &args.figure {
-        let view = StepView::planned(&step, args.parent, &args.children);
-        let name = args.known.file_name().map_or_else(
-            || args.known.display().to_string(),
-            |n| n.to_string_lossy().into_owned(),
-        );
-        let title = format!("cpsplan plan \u{2014} {name}");
-        let png = render_step(&known, &view, &config, &title)?;
-        write_atomic(path, &png)?;
-    }
+    let figure = match &args.figure {
+        Some(path) => {
+            let view = StepView::planned(&step, args.parent, &args.children);
+            let name = args.known.file_name().map_or_else(
+                || args.known.display().to_string(),
+                |n| n.to_string_lossy().into_owned(),
+            );
+            let title = format!("cpsplan plan \u{2014} {name}");
+            let png = render_step(&known, &view, &config, &title)?;
+            Some((path, write_temp(path, &png)?))
+        }
+        None => None,
+    };
     let mut out = serde_json::to_string_pretty(&step)?;
     out.push('\n');
-    use std::io::Write as _;
-    std::io::stdout()
+    let printed = std::io::stdout()
         .write_all(out.as_bytes())
-        .context("cannot write the plan")?;
-    Ok(())
+        .and_then(|()| std::io::stdout().flush())
+        .context("cannot write the plan");
+    match (printed, figure) {
+        (Ok(()), Some((path, tmp))) => tmp.persist(path),
+        (Ok(()), None) => Ok(()),
+        (Err(e), _) => Err(e),
+    }
 }

@@ -1,4 +1,5 @@
 //! Map and record file formats.
 
+pub mod config;
 mod pnm;
 pub mod rosmap;

@@ -76,10 +76,7 @@ pub(crate) fn read_raw(bytes: &[u8], max_pixels: u64) -> Result<Option<RawSample
         }
     };
     if layout.maxval == 0 || layout.maxval > u32::from(u16::MAX) {
-        return Err(format!(
-            "maxval {} (expected 1 to 65535)",
-            layout.maxval
-        ));
+        return Err(format!("maxval {} (expected 1 to 65535)", layout.maxval));
     }
     let pixels = u64::from(layout.width) * u64::from(layout.height);
     if pixels > max_pixels {

@@ -499,7 +499,10 @@ fn check_resolution(resolution: f64, path: &Path, key: &'static str) -> Result<(
         Err(FormatError::bad(
             path,
             key,
-            format!("{} is not a finite positive number of metres", number(resolution)),
+            format!(
+                "{} is not a finite positive number of metres",
+                number(resolution)
+            ),
         ))
     }
 }

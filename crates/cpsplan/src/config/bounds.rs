@@ -89,36 +89,162 @@ pub const BOUNDS: &[Bound] = &[
     real!("parent.beta", 0.0, 1e6, "", parent.beta),
     real!("parent.gamma", 0.0, 1e6, "", parent.gamma),
     real!("parent.band_width", 0.01, 1_000.0, "m", parent.band_width),
-    real!("parent.samples_per_m2", 0.001, 10_000.0, "per m²", parent.samples_per_m2),
+    real!(
+        "parent.samples_per_m2",
+        0.001,
+        10_000.0,
+        "per m²",
+        parent.samples_per_m2
+    ),
     count!("parent.max_samples", 1.0, 1e6, "", parent.max_samples),
     real!("parent.cluster_area", 0.01, 1e8, "m²", parent.cluster_area),
-    count!("parent.max_clusters", 1.0, 10_000.0, "", parent.max_clusters),
-    count!("parent.kmeans_iterations", 1.0, 10_000.0, "", parent.kmeans_iterations),
-    count!("parent.min_gain_cells", 1.0, 1e9, "cells", parent.min_gain_cells),
-    count!("parent.min_frontier_cells", 1.0, 1e9, "cells", parent.min_frontier_cells),
-    count!("parent.error_candidates", 1.0, 64.0, "", parent.error_candidates),
+    count!(
+        "parent.max_clusters",
+        1.0,
+        10_000.0,
+        "",
+        parent.max_clusters
+    ),
+    count!(
+        "parent.kmeans_iterations",
+        1.0,
+        10_000.0,
+        "",
+        parent.kmeans_iterations
+    ),
+    count!(
+        "parent.min_gain_cells",
+        1.0,
+        1e9,
+        "cells",
+        parent.min_gain_cells
+    ),
+    count!(
+        "parent.min_frontier_cells",
+        1.0,
+        1e9,
+        "cells",
+        parent.min_frontier_cells
+    ),
+    count!(
+        "parent.error_candidates",
+        1.0,
+        64.0,
+        "",
+        parent.error_candidates
+    ),
     count!("children.count", 0.0, 8.0, "", children.count),
     real!("children.radius", 0.0, 10.0, "m", children.radius),
     real!("children.alpha_c", 0.0, 1e6, "", children.alpha_c),
     real!("children.beta_c", 0.0, 1e6, "", children.beta_c),
-    real!("children.theta_t_deg", 0.0, 180.0, "°", children.theta_t_deg),
+    real!(
+        "children.theta_t_deg",
+        0.0,
+        180.0,
+        "°",
+        children.theta_t_deg
+    ),
     real!("children.d_t", 0.0, 10_000.0, "m", children.d_t),
     real!("children.min_range", 0.0, 10_000.0, "m", children.min_range),
-    optional!("children.max_range", 0.01, 10_000.0, "m", children.max_range),
-    real!("children.clearance_cap", 0.01, 1_000.0, "m", children.clearance_cap),
-    real!("children.sight_clearance", 0.0, 10.0, "m", children.sight_clearance),
-    real!("children.marker_radius", 0.0, 10.0, "m", children.marker_radius),
-    real!("children.travel_weight", 0.0, 1e6, "mm² per m", children.travel_weight),
-    optional!("instrument.distance_sigma_mm", 0.0, 10_000.0, "mm", instrument.distance_sigma_mm),
-    optional!("instrument.distance_ppm", 0.0, 1e5, "ppm", instrument.distance_ppm),
-    optional!("instrument.angle_sigma_arcsec", 0.0, 3_600.0, "″", instrument.angle_sigma_arcsec),
-    optional!("instrument.min_range", 0.0, 10_000.0, "m", instrument.min_range),
-    optional!("instrument.max_range", 0.01, 10_000.0, "m", instrument.max_range),
-    real!("instrument.instrument_height", 0.0, 100.0, "m", instrument.instrument_height),
-    real!("instrument.marker_height", 0.0, 100.0, "m", instrument.marker_height),
-    count!("accuracy.monte_carlo_runs", 0.0, 100_000.0, "", accuracy.monte_carlo_runs),
+    optional!(
+        "children.max_range",
+        0.01,
+        10_000.0,
+        "m",
+        children.max_range
+    ),
+    real!(
+        "children.clearance_cap",
+        0.01,
+        1_000.0,
+        "m",
+        children.clearance_cap
+    ),
+    real!(
+        "children.sight_clearance",
+        0.0,
+        10.0,
+        "m",
+        children.sight_clearance
+    ),
+    real!(
+        "children.marker_radius",
+        0.0,
+        10.0,
+        "m",
+        children.marker_radius
+    ),
+    real!(
+        "children.travel_weight",
+        0.0,
+        1e6,
+        "mm² per m",
+        children.travel_weight
+    ),
+    optional!(
+        "instrument.distance_sigma_mm",
+        0.0,
+        10_000.0,
+        "mm",
+        instrument.distance_sigma_mm
+    ),
+    optional!(
+        "instrument.distance_ppm",
+        0.0,
+        1e5,
+        "ppm",
+        instrument.distance_ppm
+    ),
+    optional!(
+        "instrument.angle_sigma_arcsec",
+        0.0,
+        3_600.0,
+        "″",
+        instrument.angle_sigma_arcsec
+    ),
+    optional!(
+        "instrument.min_range",
+        0.0,
+        10_000.0,
+        "m",
+        instrument.min_range
+    ),
+    optional!(
+        "instrument.max_range",
+        0.01,
+        10_000.0,
+        "m",
+        instrument.max_range
+    ),
+    real!(
+        "instrument.instrument_height",
+        0.0,
+        100.0,
+        "m",
+        instrument.instrument_height
+    ),
+    real!(
+        "instrument.marker_height",
+        0.0,
+        100.0,
+        "m",
+        instrument.marker_height
+    ),
+    count!(
+        "accuracy.monte_carlo_runs",
+        0.0,
+        100_000.0,
+        "",
+        accuracy.monte_carlo_runs
+    ),
     count!("mission.max_scans", 1.0, 100_000.0, "", mission.max_scans),
-    count!("limits.max_grid_cells", 1.0, 4e9, "cells", limits.max_grid_cells),
+    count!(
+        "limits.max_grid_cells",
+        1.0,
+        4e9,
+        "cells",
+        limits.max_grid_cells
+    ),
 ];
 
 /// Why a configuration (or a grid under it) is not valid. Every variant names
@@ -191,6 +317,22 @@ pub fn number(v: f64) -> String {
     }
 }
 
+/// A derived quantity for messages, to four significant digits beyond a
+/// million (`1.845e19`), as [`number`] below.
+pub fn approx(v: f64) -> String {
+    if !v.is_finite() || v.abs() < 1e6 {
+        return number(v);
+    }
+    let s = format!("{v:.3e}");
+    match s.split_once('e') {
+        Some((mantissa, exp)) if mantissa.contains('.') => {
+            let m = mantissa.trim_end_matches('0').trim_end_matches('.');
+            format!("{m}e{exp}")
+        }
+        _ => s,
+    }
+}
+
 fn range_text(min: f64, max: f64, unit: &str, whole: bool) -> String {
     let kind = if whole { "a whole number" } else { "a number" };
     let unit = if unit.is_empty() {
@@ -243,7 +385,7 @@ impl Config {
             return conflict(
                 "scanner.range",
                 self.scanner.range,
-                "must reach at least three cells, 3 ×",
+                "must be at least 3 ×",
                 "resolution",
                 self.resolution,
             );
@@ -307,10 +449,12 @@ impl Config {
         let grid = |key, what| Err(ConfigError::Grid { key, what });
         let cells = width.saturating_mul(height);
         let size = format!(
-            "{width} × {height} cells of {} m ({} m × {} m)",
+            "{} × {} cells of {} m ({} m × {} m)",
+            approx(width as f64),
+            approx(height as f64),
             number(resolution),
-            number(width as f64 * resolution),
-            number(height as f64 * resolution)
+            approx(width as f64 * resolution),
+            approx(height as f64 * resolution)
         );
         if width == 0 || height == 0 {
             return grid("resolution", format!("the map has no cells: {size}"));
@@ -321,7 +465,7 @@ impl Config {
                 format!(
                     "the planning grid would have {} cells ({size}), more than \
                      `limits.max_grid_cells` = {}; choose a coarser resolution or raise the limit",
-                    number(cells as f64),
+                    approx(cells as f64),
                     number(self.limits.max_grid_cells as f64)
                 ),
             );
@@ -349,7 +493,7 @@ impl Config {
                 format!(
                     "the map reaches {} m from the world origin, beyond the {} m at which \
                      cell positions stay exact; shift its origin",
-                    number(far),
+                    approx(far),
                     number(MAX_COORDINATE_M)
                 ),
             );
@@ -371,7 +515,11 @@ mod tests {
         keys.dedup();
         assert_eq!(keys.len(), n, "duplicate key");
         for b in BOUNDS {
-            assert!(b.min < b.max && b.min.is_finite() && b.max.is_finite(), "{}", b.key);
+            assert!(
+                b.min < b.max && b.min.is_finite() && b.max.is_finite(),
+                "{}",
+                b.key
+            );
             if let Some(v) = (b.get)(&c) {
                 assert!((b.min..=b.max).contains(&v), "{} = {v}", b.key);
             }
@@ -396,6 +544,9 @@ mod tests {
         assert_eq!(number(-2.5e-7), "-2.5e-7");
         assert_eq!(number(f64::NAN), "NaN");
         assert_eq!(number(0.0), "0");
+        assert_eq!(approx(18446744073709551615.0), "1.845e19");
+        assert_eq!(approx(4e10), "4e10");
+        assert_eq!(approx(1234.5), "1234.5");
     }
 
     #[test]
@@ -446,7 +597,9 @@ mod tests {
         let e = c.check_grid(80_000, 60_000, 0.001, (0.0, 0.0)).unwrap_err();
         assert_eq!(e.key(), "limits.max_grid_cells");
         assert!(e.to_string().contains("4.8e9"), "{e}");
-        let e = c.check_grid(u64::MAX, u64::MAX, 0.1, (0.0, 0.0)).unwrap_err();
+        let e = c
+            .check_grid(u64::MAX, u64::MAX, 0.1, (0.0, 0.0))
+            .unwrap_err();
         assert_eq!(e.key(), "limits.max_grid_cells");
         let e = c.check_grid(10, 10, 0.1, (1e16, 0.0)).unwrap_err();
         assert_eq!(e.key(), "origin");

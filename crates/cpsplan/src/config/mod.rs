@@ -4,7 +4,9 @@
 
 mod bounds;
 
-pub use self::bounds::{number, Bound, ConfigError, BOUNDS, MAX_COORDINATE_M, MAX_GRID_SIDE};
+pub use self::bounds::{
+    approx, number, Bound, ConfigError, BOUNDS, MAX_COORDINATE_M, MAX_GRID_SIDE,
+};
 
 use serde::{Deserialize, Serialize};
 

@@ -195,6 +195,8 @@ pub struct Summary {
     pub reachable_free_cells: usize,
     /// Free cells 4-connected to the start, reachable or not.
     pub connected_free_cells: usize,
+    /// Free cells of the whole map.
+    pub map_free_cells: usize,
     /// Total length of the parent's driven paths, metres.
     pub parent_travel_m: f64,
     /// Why the episode ended.
@@ -401,6 +403,7 @@ pub fn run_episode_with(
         connected_coverage: tracker.connected_coverage(),
         reachable_free_cells: tracker.free_total(),
         connected_free_cells: tracker.connected_total(),
+        map_free_cells: all_free,
         parent_travel_m: travel,
         stop_reason,
         seed: config.seed,

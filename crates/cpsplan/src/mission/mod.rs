@@ -27,6 +27,7 @@ mod team;
 pub use accuracy::{PoseAccuracy, Tracker};
 pub use episode::{
     parent_path, run_episode, run_episode_with, Episode, MissionError, Step, StopReason, Summary,
+    START_REGION_SHARE, START_REGION_SHARE_OF_MAP,
 };
 pub use record::{cycle_and_regions, ChildMove, CycleRecord, MoveRecord, RejectedTarget};
 pub use step::{plan_step, PlanError, StepPlan};

@@ -10,8 +10,8 @@ use super::accuracy::Tracker;
 use super::record::MoveRecord;
 use super::team;
 use crate::config::{number, Config, ConfigError};
-use crate::grid::GridGeometry;
 use crate::geom::{Cell, Point};
+use crate::grid::GridGeometry;
 use crate::grid::{CellState, OccupancyGrid};
 use crate::parent::{Decision, ParentPlan};
 
@@ -59,7 +59,7 @@ pub enum PlanError {
         y: f64,
     },
     /// Two robots stand on the same cell of the planning grid.
-    #[error("{robot} at ({x}, {y}) stands on the same cell as the {other}")]
+    #[error("{robot} at ({x}, {y}) stands on the same cell as {other}")]
     SameCell {
         /// The later robot.
         robot: String,
@@ -194,7 +194,7 @@ fn check_team(
             y: p.y,
         };
         if cell == parent {
-            return Err(same("parent".into()));
+            return Err(same("the parent".into()));
         }
         if let Some(j) = kids[..i].iter().position(|&k| k == cell) {
             return Err(same(name(j)));
