@@ -32,10 +32,9 @@ use super::chrome::{Header, Style};
 use super::layout::{check_geometry, world_to_grid_xy, Class, Frame, MapLayout};
 use super::RenderError;
 
-#[cfg(not(test))]
-use self::window::Window;
+pub(super) use self::window::Window;
 #[cfg(test)]
-pub(super) use self::{scores::score_colour, tint::and_region_colour, window::Window};
+pub(super) use self::{scores::score_colour, tint::and_region_colour};
 
 /// One planning step as its figure needs it: where the team stood, the parent's
 /// planning round and the move that followed. Built from an episode's [`Step`]
