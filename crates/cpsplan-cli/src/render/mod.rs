@@ -16,19 +16,24 @@
 //! instead, one pixel showing the most salient state of a block of cells (occupied
 //! over missed over free over unknown), so thin walls never vanish.
 
+mod axes;
 mod canvas;
 mod chart;
 mod chrome;
+mod crop;
 mod episode;
+mod journey;
 mod layout;
 mod map;
 mod marks;
 pub(crate) mod palette;
 mod placer;
+mod scan_labels;
 mod step;
+mod team;
 
 pub use self::chart::{error_chart, Chart, Series};
-pub use self::episode::render_episode;
+pub use self::episode::{render_episode, render_episode_large};
 pub use self::map::render_map;
 pub use self::step::{render_step, StepView};
 

@@ -63,9 +63,10 @@ impl Placer {
 
     /// Chooses the box of `w × h` pixels for marker `index` at `dot` of radius `r`;
     /// also says whether it sits away from the marker (and needs a leader line).
-    /// Where every spot would cover more than a sixth of an earlier label, the label
-    /// is left out (`None`) unless it is `required`: in dense clusters of scans an
-    /// unreadable pile of numbers helps nobody.
+    /// Labels never overlap one another: where every spot near the marker would
+    /// cover an earlier label the label is left out (`None`) unless it is
+    /// `required`, which then looks further out (and only when the whole
+    /// neighbourhood is taken overlaps the least).
     #[allow(clippy::too_many_arguments)]
     pub fn place(
         &mut self,
@@ -88,8 +89,10 @@ impl Placer {
             (0.0, 1.0),
         ];
         let (cx, cy) = dot;
-        let mut best = (f32::INFINITY, Rect::new(cx, cy, w, h), false);
-        for ring in 0..2 {
+        let rings = if required { 6 } else { 2 };
+        let mut best: Option<(f32, Rect, bool)> = None;
+        let mut fallback = (f32::INFINITY, Rect::new(cx, cy, w, h), false);
+        for ring in 0..rings {
             let d = r + 1.5 + ring as f32 * 12.0 * style.g as f32;
             for (k, &(ux, uy)) in DIRS.iter().enumerate() {
                 let diag = if ux != 0.0 && uy != 0.0 { 0.72 } else { 1.0 };
@@ -105,20 +108,32 @@ impl Placer {
                 };
                 let rect = Rect::new(x.round(), y.round(), w, h);
                 let cost = self.cost(index, &rect) + k as f32 * 3.0 + ring as f32 * 900.0;
-                if cost < best.0 {
-                    best = (cost, rect, ring > 0);
+                if cost < fallback.0 {
+                    fallback = (cost, rect, ring > 0);
+                }
+                let free = self.canvas.contains(&rect) && self.label_overlap(&rect) == 0.0;
+                if free && best.is_none_or(|b| cost < b.0) {
+                    best = Some((cost, rect, ring > 0));
                 }
             }
-            if best.0 < 100.0 {
-                break;
+            match best {
+                Some(b) if b.0 < 100.0 || ring >= 1 => break,
+                _ => {}
             }
         }
-        if !required && self.label_overlap(&best.1) > w * h / 6.0 {
-            return None;
-        }
-        self.index.insert(self.taken.len(), &best.1);
-        self.taken.push(best.1);
-        Some((best.1, best.2))
+        let (_, rect, far) = match best {
+            Some(b) => b,
+            None if required => fallback,
+            None => return None,
+        };
+        self.reserve(rect);
+        Some((rect, far))
+    }
+
+    /// Keeps later labels off `rect` (a placed label, or another box of text).
+    pub fn reserve(&mut self, rect: Rect) {
+        self.index.insert(self.taken.len(), &rect);
+        self.taken.push(rect);
     }
 
     /// Area of `rect` covered by labels placed so far.

@@ -23,7 +23,7 @@ use cpsplan::mission::{cycle_and_regions, CycleRecord, MoveRecord, Step, StepPla
 use cpsplan::parent::{Decision, ParentPlan};
 use cpsplan::{Config, OccupancyGrid, Point};
 
-use self::caption::{caption, window_info};
+use self::caption::caption;
 use self::legend::{legend, LegendTexts};
 use self::overlay::draw_overlay;
 use self::scores::ScoreRange;
@@ -32,7 +32,7 @@ use super::chrome::{Header, Style};
 use super::layout::{check_geometry, world_to_grid_xy, Class, Frame, MapLayout};
 use super::RenderError;
 
-pub(super) use self::window::Window;
+pub(super) use self::{caption::window_info, window::Window};
 #[cfg(test)]
 pub(super) use self::{scores::score_colour, tint::and_region_colour};
 
