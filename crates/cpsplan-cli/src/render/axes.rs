@@ -214,7 +214,7 @@ impl Axes {
 
         if self.rotated {
             let s = compass_size(style) as f32;
-            let centre = ((x0 + w) as f32 + s / 2.0, y0 as f32 + s / 2.0 + 4.0);
+            let centre = ((x0 + w) as f32 + s / 2.0, y0 as f32 + s / 2.0);
             draw_compass(canvas, style, layout, centre);
         }
     }
@@ -226,7 +226,7 @@ fn tick_len(style: Style) -> i64 {
 
 /// Width of the compass column beside a rotated map.
 fn compass_size(style: Style) -> i64 {
-    36 * i64::from(style.g)
+    48 * i64::from(style.g)
 }
 
 /// The canvas direction (unit vector) of a world direction `d` on `layout`.
@@ -241,9 +241,9 @@ fn canvas_direction(layout: &MapLayout, d: (f64, f64)) -> (f32, f32) {
 
 /// The compass: an arrow to the world's +y ("N +y") and a thinner one to +x.
 fn draw_compass(canvas: &mut Canvas, style: Style, layout: &MapLayout, c: (f32, f32)) {
-    let l = 12.0 * style.g as f32;
+    let l = 15.0 * style.g as f32;
     for (d, label, colour, width) in [
-        ((1.0, 0.0), "x", palette::MUTED_TEXT, 1.0),
+        ((1.0, 0.0), "+x", palette::MUTED_TEXT, 1.0),
         ((0.0, 1.0), "N +y", palette::TEXT, 1.6),
     ] {
         let (ux, uy) = canvas_direction(layout, d);
@@ -267,12 +267,16 @@ fn draw_compass(canvas: &mut Canvas, style: Style, layout: &MapLayout, c: (f32, 
     }
 }
 
-/// Where the world origin lies on the map, if it does.
-pub(crate) fn origin_on_map(layout: &MapLayout) -> Option<(f32, f32)> {
+/// Where the world origin lies on the map, if it does and is not so near the map's
+/// edge that the axes' zero ticks already show it (and a mark would hide cells
+/// there).
+pub(crate) fn origin_on_map(layout: &MapLayout, style: Style) -> Option<(f32, f32)> {
     let (x, y) = layout.world_to_px(Point::new(0.0, 0.0));
     let r = layout.rect();
-    let inside = Rect::new(x, y, 0.0, 0.0);
-    (x.is_finite() && y.is_finite() && r.contains(&inside)).then_some((x, y))
+    let keep = 3.0 * origin_radius(style);
+    let inner = Rect::new(r.x + keep, r.y + keep, r.w - 2.0 * keep, r.h - 2.0 * keep);
+    let at = Rect::new(x, y, 0.0, 0.0);
+    (x.is_finite() && y.is_finite() && inner.contains(&at)).then_some((x, y))
 }
 
 /// Radius of the origin mark.
@@ -314,8 +318,8 @@ mod tests {
 
     #[test]
     fn ticks_sit_at_round_values_where_the_lines_cross() {
-        // 40 × 30 m at 0.1 m, origin (-12.3, 4.2), 4 px per cell.
-        let g = GridGeometry::new(400, 300, 0.1, Point::new(-12.3, 4.2));
+        // 40 × 30 m at 0.1 m, origin (-12.3, -4.2), 4 px per cell.
+        let g = GridGeometry::new(400, 300, 0.1, Point::new(-12.3, -4.2));
         let layout = MapLayout::at_scale(&g, 4);
         let axes = Axes::of(&layout, Style { g: 2 });
         assert!(!axes.rotated);
@@ -346,7 +350,7 @@ mod tests {
         let zero = axes.bottom.1.iter().find(|t| t.value == 0.0).unwrap();
         assert!((zero.offset - 123.0 * 4.0).abs() < 1e-3);
         assert_eq!(zero.label, "0");
-        let (ox, oy) = origin_on_map(&layout).unwrap();
+        let (ox, oy) = origin_on_map(&layout, Style { g: 2 }).unwrap();
         assert!((ox - 492.0).abs() < 1e-3 && (oy - (300.0 - 42.0) * 4.0).abs() < 1e-3);
     }
 

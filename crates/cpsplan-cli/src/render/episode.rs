@@ -147,7 +147,7 @@ pub(super) fn draw_episode_figure(
     let style = Style::for_map(normal.width_px.max(normal.height_px));
     let (ex, ey) = view.extent();
     let magnification = ellipse_magnification(episode, ex.max(ey));
-    let origin = origin_on_map(&layout).is_some();
+    let origin = origin_on_map(&layout, style).is_some();
 
     // The legend: only what the picture shows.
     let mut entries: Vec<(Swatch, String)> = Vec::new();
@@ -297,7 +297,7 @@ fn draw_overlay(frame: &mut Frame, episode: &Episode, magnification: Option<f64>
         .map(|&p| layout.world_to_px(p))
         .collect();
     let diamonds = draw_scans_and_subgoals(canvas, layout, style, episode, &dots);
-    let origin = origin_on_map(layout);
+    let origin = origin_on_map(layout, style);
     if let Some(o) = origin {
         draw_origin(canvas, style, o);
     }

@@ -82,4 +82,6 @@ pub enum RenderError {
 }
 
 #[cfg(test)]
+mod episode_tests;
+#[cfg(test)]
 mod tests;

@@ -35,6 +35,7 @@ pub(crate) struct ScanLabels {
 
 impl ScanLabels {
     /// Scans numbered in range labels.
+    #[cfg_attr(not(test), allow(dead_code))]
     pub fn in_ranges(&self) -> usize {
         self.labels
             .iter()
@@ -49,9 +50,10 @@ impl ScanLabels {
         let mut parts = Vec::new();
         if let Some(l) = self.labels.iter().find(|l| l.last > l.first) {
             parts.push(format!(
-                "a range such as {} numbers consecutive scans close together ({} scans)",
+                "{} = scans {} to {}, close together",
                 l.text,
-                self.in_ranges()
+                l.first + 1,
+                l.last + 1
             ));
         }
         if self.omitted > 0 {
