@@ -26,7 +26,7 @@ use super::RenderError;
 /// Metres of map shown around what the episode knows.
 const CROP_MARGIN_M: f64 = 2.0;
 /// The larger picture's longer side stays below this many pixels.
-const LARGE_MAX_PX: i64 = 6400;
+const LARGE_MAX_PX: i64 = 4800;
 /// Where the normal picture points for the scan numbers it leaves out.
 const LARGE_NAME: &str = "map-large.png";
 
@@ -59,7 +59,7 @@ pub fn render_episode(
 }
 
 /// Draws the episode as [`render_episode`] does at two to four times its pixels per
-/// cell (the longer side at most 6400 pixels), as large as it takes to number
+/// cell (the longer side at most 4800 pixels), as large as it takes to number
 /// every scan; `None` when the normal picture numbers every scan already. The
 /// normal picture refers to this one as `map-large.png`.
 pub fn render_episode_large(

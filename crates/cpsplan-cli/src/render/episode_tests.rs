@@ -54,8 +54,20 @@ fn figure(truth: &OccupancyGrid, ep: &Episode) -> EpisodeFigure {
     draw_episode_figure(truth, ep, "test", 1).expect("picture")
 }
 
-fn assert_labels_disjoint(fig: &EpisodeFigure, scans: usize) {
+/// Labels pairwise disjoint, none over another scan's marker, every scan
+/// numbered once or counted as omitted.
+fn assert_labels_disjoint(fig: &EpisodeFigure, ep: &Episode) {
+    let scans = ep.steps.len();
     let labels = &fig.labels.labels;
+    for l in labels {
+        for (i, s) in ep.steps.iter().enumerate() {
+            if !(l.first..=l.last).contains(&i) {
+                let (x, y) = fig.frame.layout.world_to_px(s.position);
+                let dot = canvas::Rect::new(x - 3.0, y - 3.0, 6.0, 6.0);
+                assert_eq!(l.rect.overlap(&dot), 0.0, "{l:?} hides scan {i}");
+            }
+        }
+    }
     for (i, a) in labels.iter().enumerate() {
         for b in &labels[i + 1..] {
             assert_eq!(a.rect.overlap(&b.rect), 0.0, "{a:?} overlaps {b:?}");
@@ -147,7 +159,7 @@ fn crowded_scan_labels_never_overlap_and_omissions_are_told() {
     );
     let scans = ep.steps.len();
     let fig = figure(&truth, &ep);
-    assert_labels_disjoint(&fig, scans);
+    assert_labels_disjoint(&fig, &ep);
     // The ends are always numbered.
     let labels = &fig.labels.labels;
     assert!(labels.iter().any(|l| l.first == 0 && l.last == 0));
@@ -185,7 +197,7 @@ fn the_large_picture_numbers_more_and_is_only_made_when_needed() {
     assert!(pic.width() > normal.frame.canvas.pixmap.width());
     let zoomed = draw_episode_figure(&truth, &ep, "t", 2).unwrap();
     assert!(zoomed.labels.omitted < normal.labels.omitted);
-    assert_labels_disjoint(&zoomed, ep.steps.len());
+    assert_labels_disjoint(&zoomed, &ep);
 }
 
 fn has_colour_near(p: &Pixmap, (x, y): (f32, f32), radius: i32, c: Rgb) -> bool {

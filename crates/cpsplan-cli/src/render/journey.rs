@@ -209,8 +209,8 @@ pub(crate) fn scan_positions(episode: &Episode) -> Vec<Point> {
     }
 }
 
-/// The scan markers (intermediate ones first, then the last red, the start green on
-/// top) and the subgoals; returns the subgoals' canvas positions.
+/// The subgoals and over them the scan markers (intermediate ones first, then the
+/// last red, the start green on top); returns the subgoals' canvas positions.
 pub(crate) fn draw_scans_and_subgoals(
     canvas: &mut Canvas,
     layout: &MapLayout,
@@ -223,10 +223,7 @@ pub(crate) fn draw_scans_and_subgoals(
     };
     let r = style.marker_radius();
     let big = end_radius(style);
-    for &(x, y) in dots.iter().take(last).skip(1).filter(|d| finite(d)) {
-        draw_marker(canvas, x, y, r, palette::SCAN);
-    }
-    // Subgoals under the start and end markers, above the others.
+    // Subgoals under the scan markers: every scan's place stays visible.
     let mut diamonds = Vec::new();
     for p in subgoals(episode) {
         let (x, y) = layout.world_to_px(p);
@@ -234,6 +231,9 @@ pub(crate) fn draw_scans_and_subgoals(
             draw_subgoal(canvas, style, x, y);
             diamonds.push((x, y));
         }
+    }
+    for &(x, y) in dots.iter().take(last).skip(1).filter(|d| finite(d)) {
+        draw_marker(canvas, x, y, r, palette::SCAN);
     }
     if last > 0 && finite(&dots[last]) {
         draw_marker(canvas, dots[last].0, dots[last].1, big, palette::END);

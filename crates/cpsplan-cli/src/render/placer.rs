@@ -17,12 +17,16 @@ pub(crate) struct Placer {
     index: TileIndex,
     /// Number of markers at the start of `taken`.
     markers: usize,
+    /// The first this many markers may not be covered by labels (but their own).
+    protected: usize,
     /// The map's pixel rectangle: labels should stay inside.
     map: Rect,
     /// The canvas: labels must stay inside.
     canvas: Rect,
     /// Where the paths run.
     mask: TrajectoryMask,
+    /// The markers of the label being placed (besides its `index`).
+    own: std::ops::Range<usize>,
 }
 
 impl Placer {
@@ -52,19 +56,45 @@ impl Placer {
             }
         }
         Self {
+            protected: 0,
             markers: taken.len(),
             taken,
             index,
             map: layout.rect(),
             canvas: Rect::new(0.0, 0.0, canvas.width() as f32, canvas.height() as f32),
             mask,
+            own: 0..0,
         }
+    }
+
+    /// Keeps labels off the first `count` markers (other than their own) as they keep
+    /// off other labels.
+    pub fn protect_markers(&mut self, count: usize) {
+        self.protected = count.min(self.markers);
+    }
+
+    /// [`Self::place`] for a label of the markers `own` (a run of scans).
+    #[allow(clippy::too_many_arguments)]
+    pub fn place_for(
+        &mut self,
+        own: std::ops::Range<usize>,
+        dot: (f32, f32),
+        r: f32,
+        w: f32,
+        h: f32,
+        style: Style,
+        required: bool,
+    ) -> Option<(Rect, bool)> {
+        self.own = own;
+        let placed = self.place(self.own.start, dot, r, w, h, style, required);
+        self.own = 0..0;
+        placed
     }
 
     /// Chooses the box of `w × h` pixels for marker `index` at `dot` of radius `r`;
     /// also says whether it sits away from the marker (and needs a leader line).
-    /// Labels never overlap one another: where every spot near the marker would
-    /// cover an earlier label the label is left out (`None`) unless it is
+    /// Labels never overlap one another (nor protected markers): where every spot
+    /// near the marker would cover an earlier label the label is left out (`None`) unless it is
     /// `required`, which then looks further out (and only when the whole
     /// neighbourhood is taken overlaps the least).
     #[allow(clippy::too_many_arguments)]
@@ -111,7 +141,7 @@ impl Placer {
                 if cost < fallback.0 {
                     fallback = (cost, rect, ring > 0);
                 }
-                let free = self.canvas.contains(&rect) && self.label_overlap(&rect) == 0.0;
+                let free = self.canvas.contains(&rect) && self.label_overlap(index, &rect) == 0.0;
                 if free && best.is_none_or(|b| cost < b.0) {
                     best = Some((cost, rect, ring > 0));
                 }
@@ -136,12 +166,15 @@ impl Placer {
         self.taken.push(rect);
     }
 
-    /// Area of `rect` covered by labels placed so far.
-    fn label_overlap(&mut self, rect: &Rect) -> f32 {
-        let (taken, markers) = (&self.taken, self.markers);
+    /// Area of `rect` covered by labels placed so far and by protected markers
+    /// other than those of the label (`index` and `own`).
+    fn label_overlap(&mut self, index: usize, rect: &Rect) -> f32 {
+        let (taken, markers, protected) = (&self.taken, self.markers, self.protected);
+        let own = self.own.clone();
         let mut area = 0.0;
         self.index.for_each_near(rect, |j| {
-            if j >= markers {
+            let counts = j >= markers || (j < protected && j != index && !own.contains(&j));
+            if counts {
                 area += rect.overlap(&taken[j]);
             }
         });
@@ -158,8 +191,9 @@ impl Placer {
             cost += 3000.0;
         }
         let (taken, markers) = (&self.taken, self.markers);
+        let own = self.own.clone();
         self.index.for_each_near(rect, |j| {
-            if j != index {
+            if j != index && !own.contains(&j) {
                 let weight = if j < markers { 60.0 } else { 40.0 };
                 cost += weight * rect.overlap(&taken[j]);
             }

@@ -120,7 +120,8 @@ fn unit(dots: &[(f32, f32)], first: usize, last: usize, r: f32) -> Unit {
 
 /// Places the numbers of the scans at `dots` (canvas pixels, scan order) with
 /// `placer`: the first and the last scan always (their markers have radius
-/// `end_radius`), the others (radius `radius`) where there is room.
+/// `end_radius`), the others (radius `radius`) where there is room. The labels
+/// cover no scan marker but their own: every scan's place stays visible.
 pub(crate) fn place_scan_labels(
     placer: &mut Placer,
     style: Style,
@@ -129,6 +130,7 @@ pub(crate) fn place_scan_labels(
     end_radius: f32,
 ) -> ScanLabels {
     let mut out = ScanLabels::default();
+    placer.protect_markers(dots.len());
     let Some(last) = dots.len().checked_sub(1) else {
         return out;
     };
@@ -136,15 +138,9 @@ pub(crate) fn place_scan_labels(
     let mut try_place = |out: &mut ScanLabels, u: &Unit, required: bool| -> bool {
         let text = u.text();
         let (w, h) = label_size(&text, style);
-        let placed = placer.place(
-            u.first,
-            u.centre,
-            u.radius + 2.5,
-            w as f32,
-            h as f32,
-            style,
-            required,
-        );
+        let own = u.first..u.last + 1;
+        let r = u.radius + 2.5;
+        let placed = placer.place_for(own, u.centre, r, w as f32, h as f32, style, required);
         if let Some((rect, far)) = placed {
             out.labels.push(ScanLabel {
                 first: u.first,
