@@ -13,7 +13,7 @@ use cpsplan::{Config, OccupancyGrid, Point};
 use serde::Serialize;
 
 use crate::formats::rosmap::save_map;
-use crate::render::{error_chart, render_episode};
+use crate::render::{error_chart, render_episode, render_episode_large};
 
 /// Where the ground truth came from.
 #[derive(Debug, Clone)]
@@ -389,6 +389,7 @@ pub fn write_episode_outputs(
     };
     let title = format!("cpsplan explore — {}", source.label());
     let png = render_episode(truth, episode, &title)?;
+    let large = render_episode_large(truth, episode, &title)?;
     let chart = error_chart(
         episode,
         &format!("positioning error \u{2014} {}", source.label()),
@@ -400,6 +401,9 @@ pub fn write_episode_outputs(
     )?;
     write_atomic(&dir.join("metrics.csv"), &metrics_csv(episode)?)?;
     write_atomic(&dir.join("map.png"), &png)?;
+    if let Some(large) = &large {
+        write_atomic(&dir.join("map-large.png"), large)?;
+    }
     if let (Some(c), Some(p)) = (&chart, &chart_png) {
         write_atomic(&dir.join("error.png"), p)?;
         write_atomic(&dir.join("error.svg"), c.svg().as_bytes())?;

@@ -191,6 +191,27 @@ impl Canvas {
             .stroke_path(path, &c.paint(alpha), &stroke, Transform::identity(), None);
     }
 
+    /// Strokes a path with the dash pattern `intervals` (on, off, on, off, … pixels;
+    /// an even number of them), butt caps; solid when the pattern is unusable.
+    pub fn stroke_pattern(
+        &mut self,
+        path: &Path,
+        c: Rgb,
+        alpha: u8,
+        width: f32,
+        intervals: &[f32],
+    ) {
+        let stroke = Stroke {
+            width,
+            line_cap: LineCap::Butt,
+            line_join: LineJoin::Round,
+            dash: StrokeDash::new(intervals.to_vec(), 0.0),
+            ..Stroke::default()
+        };
+        self.pixmap
+            .stroke_path(path, &c.paint(alpha), &stroke, Transform::identity(), None);
+    }
+
     /// Fills a circle (anti-aliased).
     pub fn fill_circle(&mut self, cx: f32, cy: f32, r: f32, c: Rgb, alpha: u8) {
         if let Some(path) = PathBuilder::from_circle(cx, cy, r) {

@@ -4,11 +4,13 @@
 
 use tiny_skia::PathBuilder;
 
+use super::axes::draw_origin;
 use super::canvas::{fit_text, text_height, text_width, Canvas, Rgb};
 use super::marks::{
     draw_arrowhead, draw_cross, draw_ellipse, draw_marker, draw_ring, draw_subgoal, ramp,
 };
 use super::palette;
+use super::team::ChildLook;
 
 /// How a legend entry is drawn.
 #[derive(Debug, Clone, Copy)]
@@ -33,6 +35,10 @@ pub(crate) enum Swatch {
     Ellipse(Rgb),
     /// A colour ramp, low to high, left to right.
     Ramp(&'static [Rgb]),
+    /// A child's dashed path with its standing mark.
+    Child(ChildLook),
+    /// The world origin's mark.
+    Origin,
 }
 
 /// One legend entry.
@@ -94,7 +100,7 @@ impl Style {
 
     fn legend_item_width(self, item: &LegendItem<'_>) -> i64 {
         let swatch = match item.swatch {
-            Swatch::Line(_) | Swatch::Dashed(_) => 3 * self.swatch_size(),
+            Swatch::Line(_) | Swatch::Dashed(_) | Swatch::Child(_) => 3 * self.swatch_size(),
             Swatch::Ramp(_) => 5 * self.swatch_size(),
             Swatch::Ring(_) | Swatch::Cross(_) => self.swatch_size() + 4 * self.gi(),
             _ => self.swatch_size(),
@@ -277,6 +283,21 @@ fn draw_swatch(canvas: &mut Canvas, style: Style, swatch: Swatch, x: i64, cy: i6
                 c,
             );
             w
+        }
+        Swatch::Child(look) => {
+            let w = 3 * s;
+            let mut pb = PathBuilder::new();
+            pb.move_to(x as f32 + 1.0, cy as f32);
+            pb.line_to((x + w) as f32 - 1.0, cy as f32);
+            if let Some(path) = pb.finish() {
+                look.stroke(canvas, style, &path);
+            }
+            look.draw_mark(canvas, style, x as f32 + w as f32 / 2.0, cy as f32);
+            w
+        }
+        Swatch::Origin => {
+            draw_origin(canvas, style, (x as f32 + s as f32 / 2.0, cy as f32));
+            s
         }
         Swatch::Ramp(stops) => {
             let w = 5 * s;

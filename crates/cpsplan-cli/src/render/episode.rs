@@ -1,157 +1,330 @@
-//! The episode overlay: the parent's trajectory with direction arrows, the scan
-//! markers and their numbers, placed so that they do not hide one another.
+//! The episode picture (`map.png`): the final knowledge map cropped to what the
+//! episode knows, with world axes, what the robots did, non-overlapping scan
+//! numbers, and a legend of exactly what is drawn; and its larger version for maps
+//! where the normal picture has to leave scan numbers out.
 
 use cpsplan::world::CoverageTracker;
-use cpsplan::{CellState, Episode, OccupancyGrid, Point};
-use tiny_skia::PathBuilder;
+use cpsplan::{CellState, Episode, OccupancyGrid};
 
-use super::canvas::{Canvas, Rgb};
+use super::axes::{draw_origin, origin_on_map, origin_radius, Axes};
 use super::chrome::{Header, LegendItem, Style, Swatch};
-use super::layout::{check_geometry, Class, Frame, MapLayout};
-use super::marks::{draw_arrow_midway, draw_ellipse, draw_marker, draw_subgoal};
+use super::crop::crop_window;
+pub(super) use super::journey::subgoals;
+use super::journey::{
+    child_stands, draw_children_paths, draw_children_stands, draw_ellipses,
+    draw_scans_and_subgoals, draw_trajectory, drawn_children, ellipse_magnification, end_radius,
+    legs, scan_positions, trim,
+};
+use super::layout::{check_geometry, world_to_grid_xy, Class, Frame, MapLayout};
 use super::palette;
-use super::placer::{draw_label, label_size, Placer};
+use super::placer::{label_size, Placer};
+use super::scan_labels::{draw_scan_labels, place_scan_labels, ScanLabels};
+use super::step::{window_info, Window};
+use super::team::child_look;
 use super::RenderError;
+
+/// Metres of map shown around what the episode knows.
+const CROP_MARGIN_M: f64 = 2.0;
+/// The larger picture's longer side stays below this many pixels.
+const LARGE_MAX_PX: i64 = 4800;
+/// Where the normal picture points for the scan numbers it leaves out.
+const LARGE_NAME: &str = "map-large.png";
 
 /// Draws a simulated episode as PNG.
 ///
 /// `truth` is the ground truth the episode ran on, at the geometry of
 /// `episode.knowledge`. The picture shows the final knowledge map (free white,
-/// occupied near-black, unknown grey) with reachable free cells that were never seen
-/// tinted light orange and never-seen walls bordering them a darker orange; the
-/// parent's driven paths with direction arrows; the children's paths; every scan
-/// position numbered in order (start green, last red); the intermediate subgoals of
-/// every driven move that retrieved them (section IV-C) as small dark diamonds; a
-/// header with `title`, the episode's summary and a legend; and a scale bar. Without
-/// a knowledge map the ground truth is drawn.
+/// occupied near-black, unknown grey), cropped to the known cells, the missed ones
+/// and every robot's positions and paths with a margin of 2 m; reachable free
+/// cells that were never seen tinted light orange and never-seen walls bordering
+/// them a darker orange; world axes with ticks at round metres (the origin marked
+/// when shown, a compass when the grid is rotated); the parent's driven paths
+/// with direction arrows; each child's paths in its own colour and dash pattern
+/// and its standing places at the scans as its own shape; every scan position
+/// (start green, last red) numbered where there is room, runs of scans close
+/// together as ranges ("14–19"), the rest counted in the header; the error
+/// ellipses; the intermediate subgoals of every driven move that retrieved them
+/// (section IV-C) as small dark diamonds; a header with `title`, the episode's
+/// summary, the note on the labels and a legend of what is drawn; and a scale
+/// bar. Without a knowledge map the ground truth is drawn.
 pub fn render_episode(
     truth: &OccupancyGrid,
     episode: &Episode,
     title: &str,
 ) -> Result<Vec<u8>, RenderError> {
-    draw_episode(truth, episode, title)?.canvas.encode()
+    draw_episode_figure(truth, episode, title, 1)?
+        .frame
+        .canvas
+        .encode()
 }
 
+/// Draws the episode as [`render_episode`] does at two to four times its pixels per
+/// cell (the longer side at most 4800 pixels), as large as it takes to number
+/// every scan; `None` when the normal picture numbers every scan already. The
+/// normal picture refers to this one as `map-large.png`.
+pub fn render_episode_large(
+    truth: &OccupancyGrid,
+    episode: &Episode,
+    title: &str,
+) -> Result<Option<Vec<u8>>, RenderError> {
+    let normal = draw_episode_figure(truth, episode, title, 1)?;
+    if normal.labels.omitted == 0 {
+        return Ok(None);
+    }
+    let mut best = None;
+    for zoom in 2..=4 {
+        let fig = draw_episode_figure(truth, episode, title, zoom)?;
+        let (w, h) = (fig.frame.layout.width_px, fig.frame.layout.height_px);
+        if w.max(h) > LARGE_MAX_PX && best.is_some() {
+            break;
+        }
+        let done = fig.labels.omitted == 0;
+        best = Some(fig);
+        if done {
+            break;
+        }
+    }
+    best.map(|f| f.frame.canvas.encode()).transpose()
+}
+
+/// A drawn episode picture with what the tests look at.
+pub(super) struct EpisodeFigure {
+    /// The picture.
+    pub frame: Frame,
+    /// The cells shown.
+    #[cfg_attr(not(test), allow(dead_code))]
+    pub window: Window,
+    /// The legend's entries, in order.
+    #[cfg_attr(not(test), allow(dead_code))]
+    pub legend: Vec<String>,
+    /// The scan numbers.
+    pub labels: ScanLabels,
+    /// The world axes' ticks.
+    #[cfg_attr(not(test), allow(dead_code))]
+    pub axes: Axes,
+}
+
+/// [`draw_episode_figure`] at the normal size, the picture only.
+#[cfg(test)]
 pub(super) fn draw_episode(
     truth: &OccupancyGrid,
     episode: &Episode,
     title: &str,
 ) -> Result<Frame, RenderError> {
+    Ok(draw_episode_figure(truth, episode, title, 1)?.frame)
+}
+
+/// The episode picture at `zoom` times the normal pixels per cell.
+pub(super) fn draw_episode_figure(
+    truth: &OccupancyGrid,
+    episode: &Episode,
+    title: &str,
+    zoom: usize,
+) -> Result<EpisodeFigure, RenderError> {
     let g = *truth.geometry();
     check_geometry(&g)?;
-    let knowledge = episode.knowledge.as_ref();
-    if let Some(k) = knowledge {
-        if (k.width(), k.height()) != (g.width, g.height) {
-            return Err(RenderError::GeometryMismatch {
-                truth_width: g.width,
-                truth_height: g.height,
-                knowledge_width: k.width(),
-                knowledge_height: k.height(),
-            });
+    let classes = classes(truth, episode)?;
+    let window = crop_window(
+        &g,
+        classes
+            .iter()
+            .enumerate()
+            .filter(|(_, c)| !matches!(c, Class::Unknown | Class::OutOfReach))
+            .map(|(i, _)| i),
+        episode_points(episode).map(|p| world_to_grid_xy(&g, p)),
+        CROP_MARGIN_M,
+    );
+    let view = window.geometry(&g);
+    let shown = window.crop(&classes, g.width);
+
+    let normal = MapLayout::new(&view);
+    let layout = if zoom > 1 {
+        let px = normal.px_per_cell * zoom / normal.cells_per_px;
+        MapLayout::at_scale(&view, px.max(1))
+    } else {
+        normal
+    };
+    let style = Style::for_map(normal.width_px.max(normal.height_px));
+    let (ex, ey) = view.extent();
+    let magnification = ellipse_magnification(episode, ex.max(ey));
+    let origin = origin_on_map(&layout, style).is_some();
+
+    // The legend: only what the picture shows.
+    let mut entries: Vec<(Swatch, String)> = Vec::new();
+    for (class, name) in [
+        (Class::Free, "free"),
+        (Class::Occupied, "occupied"),
+        (Class::Unknown, "unknown"),
+        (Class::Missed, "missed"),
+        (Class::MissedWall, "missed wall"),
+        (Class::OutOfReach, "out of reach"),
+    ] {
+        if shown.contains(&class) {
+            entries.push((Swatch::Cell(class.color()), name.to_owned()));
         }
     }
-    let tracker = knowledge.and_then(|k| {
-        g.world_to_cell(episode.start)
-            .map(|start| CoverageTracker::new(truth, start, episode.config.robot.radius, k))
-    });
-
-    let mut legend = vec![
-        LegendItem {
-            swatch: Swatch::Cell(palette::FREE),
-            label: "free",
-        },
-        LegendItem {
-            swatch: Swatch::Cell(palette::OCCUPIED),
-            label: "occupied",
-        },
-        LegendItem {
-            swatch: Swatch::Cell(palette::UNKNOWN),
-            label: "unknown",
-        },
-    ];
-    if tracker.is_some() {
-        legend.push(LegendItem {
-            swatch: Swatch::Cell(palette::MISSED),
-            label: "missed",
-        });
-        legend.push(LegendItem {
-            swatch: Swatch::Cell(palette::MISSED_WALL),
-            label: "missed wall",
-        });
-        legend.push(LegendItem {
-            swatch: Swatch::Cell(palette::OUT_OF_REACH),
-            label: "out of reach",
-        });
+    let children = drawn_children(episode);
+    if episode.steps.len() >= 2 {
+        let name = if children.is_empty() {
+            "trajectory"
+        } else {
+            "parent"
+        };
+        entries.push((Swatch::Line(palette::TRAJECTORY), name.to_owned()));
     }
-    const CHILD_LABELS: [&str; 4] = ["child 1", "child 2", "child 3", "child 4"];
-    let children = episode.config.children.count.min(4);
-    legend.extend([LegendItem {
-        swatch: Swatch::Line(palette::TRAJECTORY),
-        label: if children > 0 { "parent" } else { "trajectory" },
-    }]);
-    for (i, label) in CHILD_LABELS.iter().enumerate().take(children) {
-        legend.push(LegendItem {
-            swatch: Swatch::Line(palette::CHILDREN[i]),
-            label,
-        });
+    for &n in &children {
+        let stood = if child_stands(episode, n).is_empty() {
+            ""
+        } else {
+            " and stands"
+        };
+        let name = format!("child {} path{stood}", n + 1);
+        entries.push((Swatch::Child(child_look(n)), name));
     }
     if !subgoals(episode).is_empty() {
-        legend.push(LegendItem {
-            swatch: Swatch::Subgoal,
-            label: "subgoal",
-        });
+        entries.push((Swatch::Subgoal, "subgoal".to_owned()));
     }
-    let magnification = ellipse_magnification(episode, &g);
-    let ellipse_label = magnification.map(|m| format!("error ellipse 1\u{3c3} \u{d7}{}", trim(m)));
-    if let Some(l) = &ellipse_label {
-        legend.push(LegendItem {
-            swatch: Swatch::Ellipse(palette::ELLIPSE),
-            label: l,
-        });
+    if let Some(m) = magnification {
+        let label = format!("error ellipse 1\u{3c3} \u{d7}{}", trim(m));
+        entries.push((Swatch::Ellipse(palette::ELLIPSE), label));
     }
-    legend.extend([
-        LegendItem {
-            swatch: Swatch::Dot(palette::SCAN),
-            label: "scan",
-        },
-        LegendItem {
-            swatch: Swatch::Dot(palette::START),
-            label: "start",
-        },
-        LegendItem {
-            swatch: Swatch::Dot(palette::END),
-            label: "end",
-        },
-    ]);
-    let header = Header {
+    let scans = scan_positions(episode).len();
+    if scans > 2 {
+        entries.push((Swatch::Dot(palette::SCAN), "scan".to_owned()));
+    }
+    entries.push((Swatch::Dot(palette::START), "start".to_owned()));
+    if scans > 1 {
+        entries.push((Swatch::Dot(palette::END), "end".to_owned()));
+    }
+    if origin {
+        entries.push((Swatch::Origin, "world origin (0, 0)".to_owned()));
+    }
+    let mut header = Header {
         title,
-        lines: vec![summary_line(episode)],
-        legend,
+        lines: vec![summary_line(episode), String::new()],
+        legend: entries
+            .iter()
+            .map(|(swatch, label)| LegendItem {
+                swatch: *swatch,
+                label,
+            })
+            .collect(),
     };
-    let mut frame = Frame::new(&g, &header)?;
-    let truth_cells = truth.cells();
-    match (knowledge, &tracker) {
-        (Some(k), Some(t)) => {
-            let known = k.cells();
-            frame.layout.paint(&mut frame.canvas, |i| match known[i] {
-                CellState::Unknown if t.is_reachable_free(i) => Class::Missed,
-                CellState::Unknown if t.is_bordering_wall(i) => Class::MissedWall,
-                CellState::Unknown if t.is_connected_free(i) => Class::OutOfReach,
-                s => Class::of(s),
-            });
-        }
-        (Some(k), None) => {
-            let known = k.cells();
-            frame
-                .layout
-                .paint(&mut frame.canvas, |i| Class::of(known[i]));
-        }
-        (None, _) => frame
-            .layout
-            .paint(&mut frame.canvas, |i| Class::of(truth_cells[i])),
+
+    let axes = Axes::of(&layout, style);
+    let info = window_info(&g, &window);
+    let mut frame = Frame::unheaded(layout, style, &header, info, axes.gutters(style))?;
+    frame.layout.paint(&mut frame.canvas, |i| shown[i]);
+    axes.draw(&mut frame.canvas, style, &frame.layout);
+
+    let labels = draw_overlay(&mut frame, episode, magnification);
+    let elsewhere = format!("more in {LARGE_NAME}");
+    header.lines[1] = labels.note((zoom == 1).then_some(elsewhere.as_str()));
+    header.draw(&mut frame.canvas, style);
+    Ok(EpisodeFigure {
+        frame,
+        window,
+        legend: entries.into_iter().map(|(_, l)| l).collect(),
+        labels,
+        axes,
+    })
+}
+
+/// What every cell of the grid shows: the knowledge map's state, with never-seen
+/// cells split by the coverage tracker into missed, missed wall and out of reach;
+/// the ground truth without a knowledge map.
+fn classes(truth: &OccupancyGrid, episode: &Episode) -> Result<Vec<Class>, RenderError> {
+    let g = *truth.geometry();
+    let Some(k) = episode.knowledge.as_ref() else {
+        return Ok(truth.cells().iter().map(|&s| Class::of(s)).collect());
+    };
+    if (k.width(), k.height()) != (g.width, g.height) {
+        return Err(RenderError::GeometryMismatch {
+            truth_width: g.width,
+            truth_height: g.height,
+            knowledge_width: k.width(),
+            knowledge_height: k.height(),
+        });
     }
-    draw_overlay(&mut frame.canvas, &frame.layout, frame.style, episode);
-    Ok(frame)
+    let tracker = g
+        .world_to_cell(episode.start)
+        .map(|start| CoverageTracker::new(truth, start, episode.config.robot.radius, k));
+    let known = k.cells();
+    Ok((0..known.len())
+        .map(|i| match (known[i], &tracker) {
+            (CellState::Unknown, Some(t)) if t.is_reachable_free(i) => Class::Missed,
+            (CellState::Unknown, Some(t)) if t.is_bordering_wall(i) => Class::MissedWall,
+            (CellState::Unknown, Some(t)) if t.is_connected_free(i) => Class::OutOfReach,
+            (s, _) => Class::of(s),
+        })
+        .collect())
+}
+
+/// Every point the picture draws: scan positions, the parent's and the children's
+/// paths and places.
+fn episode_points(episode: &Episode) -> impl Iterator<Item = cpsplan::Point> + '_ {
+    let steps = episode.steps.iter().flat_map(|s| {
+        let cycles = s.movement.cycles.iter().flat_map(|c| {
+            [c.parent_from, c.parent_to]
+                .into_iter()
+                .chain(c.parent_path.iter().copied())
+                .chain(
+                    c.children
+                        .iter()
+                        .flat_map(|k| [k.from, k.to].into_iter().chain(k.path.iter().copied())),
+                )
+        });
+        std::iter::once(s.position)
+            .chain(s.children.iter().copied())
+            .chain(s.driven_path())
+            .chain(cycles)
+    });
+    std::iter::once(episode.start).chain(steps)
+}
+
+/// Draws paths, marks and labels over the painted map; returns the scan labels.
+fn draw_overlay(frame: &mut Frame, episode: &Episode, magnification: Option<f64>) -> ScanLabels {
+    let (canvas, layout, style) = (&mut frame.canvas, &frame.layout, frame.style);
+    let legs = legs(layout, episode);
+    draw_children_paths(canvas, layout, style, episode);
+    draw_trajectory(canvas, style, &legs);
+    if let Some(m) = magnification {
+        draw_ellipses(canvas, layout, style, episode, m);
+    }
+    let stands = draw_children_stands(canvas, layout, style, episode);
+    let dots: Vec<(f32, f32)> = scan_positions(episode)
+        .iter()
+        .map(|&p| layout.world_to_px(p))
+        .collect();
+    let diamonds = draw_scans_and_subgoals(canvas, layout, style, episode, &dots);
+    let origin = origin_on_map(layout, style);
+    if let Some(o) = origin {
+        draw_origin(canvas, style, o);
+    }
+
+    // Labels avoid every mark: scans first (their indices are the scan numbers).
+    let obstacles: Vec<(f32, f32)> = dots
+        .iter()
+        .chain(&diamonds)
+        .chain(&stands)
+        .chain(&origin)
+        .copied()
+        .collect();
+    let paths = (0..legs.len()).map(|i| legs.leg(i));
+    let big = end_radius(style);
+    let mut placer = Placer::new(canvas, layout, paths, &obstacles, big + 2.5);
+    if let Some(o) = origin {
+        let text = "0,0";
+        let (w, h) = label_size(text, style);
+        let r = origin_radius(style) + 2.0;
+        let index = obstacles.len() - 1;
+        if let Some((rect, _)) = placer.place(index, o, r, w as f32, h as f32, style, true) {
+            super::placer::draw_label(canvas, style, &rect, text, palette::TEXT, None);
+        }
+    }
+    let labels = place_scan_labels(&mut placer, style, &dots, style.marker_radius(), big);
+    draw_scan_labels(canvas, style, &labels, dots.len().saturating_sub(1));
+    labels
 }
 
 /// "31 scans · coverage 99.6 % · walls 98.1 % · parent travel 512.3 m · stop: complete ·
@@ -170,282 +343,4 @@ fn summary_line(episode: &Episode) -> String {
         stop,
         s.seed
     )
-}
-
-/// The driven legs in canvas pixels: all points, and where each leg starts.
-struct Legs {
-    points: Vec<(f32, f32)>,
-    starts: Vec<usize>,
-}
-
-impl Legs {
-    /// Leg `i`'s points.
-    fn leg(&self, i: usize) -> &[(f32, f32)] {
-        let end = self.starts.get(i + 1).copied().unwrap_or(self.points.len());
-        &self.points[self.starts[i]..end]
-    }
-
-    fn len(&self) -> usize {
-        self.starts.len()
-    }
-}
-
-/// The children's driven paths, thin, one colour per child, under the parent's.
-fn draw_children(canvas: &mut Canvas, layout: &MapLayout, episode: &Episode) {
-    let colours = palette::CHILDREN;
-    for (n, colour) in (0..episode.config.children.count).zip(colours.iter().cycle()) {
-        let mut pb = PathBuilder::new();
-        let mut any = false;
-        for cycle in episode.steps.iter().flat_map(|s| &s.movement.cycles) {
-            let Some(child) = cycle.children.get(n) else {
-                continue;
-            };
-            let pts: Vec<(f32, f32)> = child
-                .path
-                .iter()
-                .map(|&p| layout.world_to_px(p))
-                .filter(|p| p.0.is_finite() && p.1.is_finite())
-                .collect();
-            if let Some((first, rest)) = pts.split_first() {
-                pb.move_to(first.0, first.1);
-                for p in rest {
-                    pb.line_to(p.0, p.1);
-                }
-                any |= !rest.is_empty();
-            }
-        }
-        if let (true, Some(path)) = (any, pb.finish()) {
-            canvas.stroke_path(&path, *colour, 220, 1.5);
-        }
-    }
-}
-
-/// The intermediate subgoals of every driven move that retrieved subgoals (section
-/// IV-C): where each CPS cycle but the last left the parent. The last step's move
-/// is only planned, not driven, and is left out like its path.
-pub(crate) fn subgoals(episode: &Episode) -> Vec<Point> {
-    let n = episode.steps.len().saturating_sub(1);
-    episode.steps[..n]
-        .iter()
-        .filter(|s| s.movement.subgoal_retrieval)
-        .flat_map(|s| {
-            let cycles = &s.movement.cycles;
-            cycles[..cycles.len().saturating_sub(1)]
-                .iter()
-                .map(|c| c.parent_to)
-        })
-        .collect()
-}
-
-/// Every step but the last moved the parent along its driven path to the next scan
-/// position; a step without a usable path is drawn as a straight move.
-fn legs(layout: &MapLayout, episode: &Episode) -> Legs {
-    let steps = &episode.steps;
-    let n_points: usize = steps.iter().map(|s| s.plan.path.len().max(2)).sum();
-    let mut legs = Legs {
-        points: Vec::with_capacity(n_points),
-        starts: Vec::with_capacity(steps.len()),
-    };
-    let finite = |p: &(f32, f32)| p.0.is_finite() && p.1.is_finite();
-    for pair in steps.windows(2) {
-        let start = legs.points.len();
-        legs.points.extend(
-            pair[0]
-                .driven_path()
-                .iter()
-                .map(|&p| layout.world_to_px(p))
-                .filter(finite),
-        );
-        if legs.points.len() - start < 2 {
-            legs.points.truncate(start);
-            for p in [pair[0].position, pair[1].position] {
-                legs.points.push(layout.world_to_px(p));
-            }
-            if !legs.points[start..].iter().all(finite) {
-                legs.points.truncate(start);
-                continue;
-            }
-        }
-        legs.starts.push(start);
-    }
-    legs
-}
-
-/// Draws trajectory, markers and labels over the painted map.
-pub(crate) fn draw_overlay(
-    canvas: &mut Canvas,
-    layout: &MapLayout,
-    style: Style,
-    episode: &Episode,
-) {
-    let legs = legs(layout, episode);
-    draw_children(canvas, layout, episode);
-    draw_trajectory(canvas, style, &legs);
-    if let Some(m) = ellipse_magnification(episode, &layout.geometry()) {
-        draw_ellipses(canvas, layout, style, episode, m);
-    }
-
-    let positions: Vec<Point> = if episode.steps.is_empty() {
-        vec![episode.start]
-    } else {
-        episode.steps.iter().map(|s| s.position).collect()
-    };
-    let mut dots: Vec<(f32, f32)> = positions.iter().map(|&p| layout.world_to_px(p)).collect();
-    let last = dots.len() - 1;
-    let r = style.marker_radius();
-    let big = r + 1.5;
-    let color_of = |i: usize| {
-        if i == 0 {
-            palette::START
-        } else if i == last {
-            palette::END
-        } else {
-            palette::SCAN
-        }
-    };
-    let radius_of = |i: usize| if i == 0 || i == last { big } else { r };
-    for (i, &(x, y)) in dots.iter().enumerate().skip(1) {
-        if i != last {
-            draw_marker(canvas, x, y, r, palette::SCAN);
-        }
-    }
-    // Subgoals under the start and end markers, above the others; labels avoid
-    // them too.
-    for p in subgoals(episode) {
-        let (x, y) = layout.world_to_px(p);
-        if x.is_finite() && y.is_finite() {
-            draw_subgoal(canvas, style, x, y);
-            dots.push((x, y));
-        }
-    }
-    if last > 0 {
-        draw_marker(canvas, dots[last].0, dots[last].1, big, palette::END);
-    }
-    draw_marker(canvas, dots[0].0, dots[0].1, big, palette::START);
-
-    // Numbers, placed one by one where they hide the least.
-    let mut placer = Placer::new(
-        canvas,
-        layout,
-        (0..legs.len()).map(|i| legs.leg(i)),
-        &dots,
-        big + 2.5,
-    );
-    for (i, &dot) in dots.iter().enumerate().take(last + 1) {
-        if !(dot.0.is_finite() && dot.1.is_finite()) {
-            continue;
-        }
-        let label = (i + 1).to_string();
-        let (w, h) = label_size(&label, style);
-        let required = i == 0 || i == last;
-        let Some((rect, far)) = placer.place(
-            i,
-            dot,
-            radius_of(i) + 2.5,
-            w as f32,
-            h as f32,
-            style,
-            required,
-        ) else {
-            continue; // no room: the marker stays, unlabelled
-        };
-        let edge = if i == 0 || i == last {
-            color_of(i)
-        } else {
-            palette::SWATCH_EDGE
-        };
-        let leader = far.then_some((dot, radius_of(i) + 1.75));
-        draw_label(canvas, style, &rect, &label, edge, leader);
-    }
-}
-
-/// How much the scan positions' error ellipses are magnified: the largest major
-/// semi-axis drawn about 3 % of the map's longer side, rounded down to 1, 2 or 5
-/// times a power of ten; `None` without predicted errors.
-fn ellipse_magnification(episode: &Episode, g: &cpsplan::GridGeometry) -> Option<f64> {
-    let biggest = episode
-        .steps
-        .iter()
-        .filter_map(|s| s.covariance_m2)
-        .map(|c| major_axis(&c))
-        .fold(0.0f64, f64::max);
-    if biggest.is_nan() || biggest <= 0.0 {
-        return None;
-    }
-    let (ex, ey) = g.extent();
-    let want = 0.03 * ex.max(ey) / biggest;
-    let mag = 10f64.powf(want.log10().floor());
-    let m = [5.0, 2.0, 1.0]
-        .iter()
-        .map(|k| k * mag)
-        .find(|&m| m <= want)
-        .unwrap_or(mag);
-    Some(m)
-}
-
-/// The semi-axes (1σ, metres) and the major axis's angle of a 2×2 covariance.
-fn ellipse_of(c: &[[f64; 2]; 2]) -> (f64, f64, f64) {
-    let (xx, xy, yy) = (c[0][0], c[0][1], c[1][1]);
-    let tr = xx + yy;
-    let disc = ((xx - yy).powi(2) / 4.0 + xy * xy).max(0.0).sqrt();
-    let (l1, l2) = (tr / 2.0 + disc, (tr / 2.0 - disc).max(0.0));
-    (
-        l1.max(0.0).sqrt(),
-        l2.sqrt(),
-        0.5 * (2.0 * xy).atan2(xx - yy),
-    )
-}
-
-fn major_axis(c: &[[f64; 2]; 2]) -> f64 {
-    ellipse_of(c).0
-}
-
-fn trim(v: f64) -> String {
-    let s = format!("{v:.6}");
-    s.trim_end_matches('0').trim_end_matches('.').to_string()
-}
-
-/// Every scan position's 1σ error ellipse, magnified `m` times.
-fn draw_ellipses(canvas: &mut Canvas, layout: &MapLayout, style: Style, episode: &Episode, m: f64) {
-    let px_per_m = 1.0 / layout.metres_per_px();
-    for s in &episode.steps {
-        let Some(c) = s.covariance_m2 else { continue };
-        let (a, b, angle) = ellipse_of(&c);
-        let centre = layout.world_to_px(s.position);
-        if !(centre.0.is_finite() && centre.1.is_finite()) {
-            continue;
-        }
-        // The map's yaw turns the ellipse with it.
-        let yaw = layout.geometry().yaw;
-        draw_ellipse(
-            canvas,
-            style,
-            centre,
-            ((a * m * px_per_m) as f32, (b * m * px_per_m) as f32),
-            (angle - yaw) as f32,
-            palette::ELLIPSE,
-        );
-    }
-}
-
-/// The trajectory: a white casing, the coloured line, and an arrowhead halfway
-/// along every leg long enough to carry one.
-fn draw_trajectory(canvas: &mut Canvas, style: Style, legs: &Legs) {
-    let mut pb = PathBuilder::new();
-    for i in 0..legs.len() {
-        let leg = legs.leg(i);
-        pb.move_to(leg[0].0, leg[0].1);
-        for p in &leg[1..] {
-            pb.line_to(p.0, p.1);
-        }
-    }
-    let Some(path) = pb.finish() else {
-        return;
-    };
-    let lw = style.line_width();
-    canvas.stroke_path(&path, Rgb::hex(0xffffff), 215, lw + 3.5);
-    canvas.stroke_path(&path, palette::TRAJECTORY, 255, lw);
-    for i in 0..legs.len() {
-        draw_arrow_midway(canvas, style, legs.leg(i), palette::TRAJECTORY);
-    }
 }

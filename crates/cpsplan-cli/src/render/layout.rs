@@ -92,6 +92,21 @@ impl MapLayout {
         }
     }
 
+    /// `geometry` at `px_per_cell` pixels per cell (at least 1), placed at the canvas
+    /// origin.
+    pub fn at_scale(geometry: &GridGeometry, px_per_cell: usize) -> Self {
+        let px_per_cell = px_per_cell.max(1);
+        Self {
+            geometry: *geometry,
+            cells_per_px: 1,
+            px_per_cell,
+            x0: 0,
+            y0: 0,
+            width_px: (geometry.width * px_per_cell) as i64,
+            height_px: (geometry.height * px_per_cell) as i64,
+        }
+    }
+
     /// Pixels per cell (fractional when reducing).
     fn scale(&self) -> f64 {
         self.px_per_cell as f64 / self.cells_per_px as f64
@@ -115,6 +130,15 @@ impl MapLayout {
             (self.x0 as f64 + gx * s) as f32,
             (self.y0 as f64 + (self.geometry.height as f64 - gy) * s) as f32,
         )
+    }
+
+    /// The world point at a canvas position (the inverse of [`Self::world_to_px`]).
+    pub fn px_to_world(&self, x: f64, y: f64) -> Point {
+        let s = self.scale();
+        let g = &self.geometry;
+        let gx = (x - self.x0 as f64) / s * g.resolution;
+        let gy = (g.height as f64 - (y - self.y0 as f64) / s) * g.resolution;
+        g.grid_to_world(gx, gy)
     }
 
     /// The map's pixel rectangle.
@@ -204,10 +228,25 @@ impl Frame {
         header: &Header<'_>,
         info: String,
     ) -> Result<Self, RenderError> {
-        let mut layout = MapLayout::new(geometry);
+        let layout = MapLayout::new(geometry);
         let style = Style::for_map(layout.width_px.max(layout.height_px));
+        let mut frame = Self::unheaded(layout, style, header, info, Gutters::default())?;
+        header.draw(&mut frame.canvas, style);
+        Ok(frame)
+    }
+
+    /// Lays the picture out around the map of `layout` with `gutters` of room on its
+    /// sides and draws the footer; leaves the header's room (as `header` needs it)
+    /// blank for the caller to draw, with [`Header::draw`], once its lines are known.
+    pub fn unheaded(
+        mut layout: MapLayout,
+        style: Style,
+        header: &Header<'_>,
+        info: String,
+        gutters: Gutters,
+    ) -> Result<Self, RenderError> {
         let m = style.margin();
-        let width = (layout.width_px + 2 * m)
+        let width = (layout.width_px + gutters.left + gutters.right + 2 * m)
             .max(header.min_width(style))
             .max(400);
         let header_h = header.height(style, width);
@@ -216,7 +255,8 @@ impl Frame {
             map_width_px: layout.width_px,
             info,
         };
-        let height = header_h + m + layout.height_px + footer.height(style);
+        let height =
+            header_h + m + gutters.top + layout.height_px + gutters.bottom + footer.height(style);
         let too_large = || RenderError::TooLarge {
             width: u32::try_from(width).unwrap_or(u32::MAX),
             height: u32::try_from(height).unwrap_or(u32::MAX),
@@ -226,16 +266,34 @@ impl Frame {
             u32::try_from(height).map_err(|_| too_large())?,
         );
         let mut canvas = Canvas::new(w32, h32)?;
-        header.draw(&mut canvas, style);
-        layout.x0 = (width - layout.width_px) / 2;
-        layout.y0 = header_h + m;
-        footer.draw(&mut canvas, style, layout.x0, layout.y0 + layout.height_px);
+        let spare = width - layout.width_px - gutters.left - gutters.right;
+        layout.x0 = gutters.left + spare / 2;
+        layout.y0 = header_h + m + gutters.top;
+        footer.draw(
+            &mut canvas,
+            style,
+            layout.x0,
+            layout.y0 + layout.height_px + gutters.bottom,
+        );
         Ok(Self {
             canvas,
             layout,
             style,
         })
     }
+}
+
+/// Room around the map, pixels (for axis ticks and labels).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub(crate) struct Gutters {
+    /// Left of the map.
+    pub left: i64,
+    /// Right of the map.
+    pub right: i64,
+    /// Above the map.
+    pub top: i64,
+    /// Below the map.
+    pub bottom: i64,
 }
 
 /// "800 × 600 cells of 0.1 m · 80 × 60 m".

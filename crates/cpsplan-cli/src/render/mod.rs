@@ -1,9 +1,14 @@
 //! Pictures of maps and episodes as PNG (DESIGN.md pipeline stage 9, "Reports").
 //!
-//! - [`render_episode`]: the final knowledge map of a simulated episode with what was
-//!   missed tinted, the parent's trajectory, numbered scan positions, a header with
-//!   title, summary and legend, and a scale bar; with children, their paths and
-//!   the subgoals of every move that needed them.
+//! - [`render_episode`]: the final knowledge map of a simulated episode, cropped to
+//!   what the episode knows, with world axes, what was missed tinted, the parent's
+//!   trajectory, numbered scan positions (labels never overlap: runs of nearby
+//!   scans share a range label, omissions are counted in the header), a header
+//!   with title, summary and a legend of what is drawn, and a scale bar; with
+//!   children, each child's paths and standing places in its own colour, dash
+//!   pattern and shape, and the subgoals of every move that needed them.
+//! - [`render_episode_large`]: the same at more pixels per cell, for maps whose
+//!   normal picture cannot number every scan.
 //! - [`render_step`]: one planning step after the paper's Figs. 5–7 (candidates by
 //!   score, AND regions, subgoals, every robot's path and the CPS lines of sight),
 //!   on a window of the knowledge map the step planned on.
@@ -16,19 +21,24 @@
 //! instead, one pixel showing the most salient state of a block of cells (occupied
 //! over missed over free over unknown), so thin walls never vanish.
 
+mod axes;
 mod canvas;
 mod chart;
 mod chrome;
+mod crop;
 mod episode;
+mod journey;
 mod layout;
 mod map;
 mod marks;
 pub(crate) mod palette;
 mod placer;
+mod scan_labels;
 mod step;
+mod team;
 
 pub use self::chart::{error_chart, Chart, Series};
-pub use self::episode::render_episode;
+pub use self::episode::{render_episode, render_episode_large};
 pub use self::map::render_map;
 pub use self::step::{render_step, StepView};
 
@@ -76,5 +86,7 @@ pub enum RenderError {
     Encode(String),
 }
 
+#[cfg(test)]
+mod episode_tests;
 #[cfg(test)]
 mod tests;

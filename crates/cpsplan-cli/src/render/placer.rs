@@ -17,12 +17,16 @@ pub(crate) struct Placer {
     index: TileIndex,
     /// Number of markers at the start of `taken`.
     markers: usize,
+    /// The first this many markers may not be covered by labels (but their own).
+    protected: usize,
     /// The map's pixel rectangle: labels should stay inside.
     map: Rect,
     /// The canvas: labels must stay inside.
     canvas: Rect,
     /// Where the paths run.
     mask: TrajectoryMask,
+    /// The markers of the label being placed (besides its `index`).
+    own: std::ops::Range<usize>,
 }
 
 impl Placer {
@@ -52,20 +56,47 @@ impl Placer {
             }
         }
         Self {
+            protected: 0,
             markers: taken.len(),
             taken,
             index,
             map: layout.rect(),
             canvas: Rect::new(0.0, 0.0, canvas.width() as f32, canvas.height() as f32),
             mask,
+            own: 0..0,
         }
+    }
+
+    /// Keeps labels off the first `count` markers (other than their own) as they keep
+    /// off other labels.
+    pub fn protect_markers(&mut self, count: usize) {
+        self.protected = count.min(self.markers);
+    }
+
+    /// [`Self::place`] for a label of the markers `own` (a run of scans).
+    #[allow(clippy::too_many_arguments)]
+    pub fn place_for(
+        &mut self,
+        own: std::ops::Range<usize>,
+        dot: (f32, f32),
+        r: f32,
+        w: f32,
+        h: f32,
+        style: Style,
+        required: bool,
+    ) -> Option<(Rect, bool)> {
+        self.own = own;
+        let placed = self.place(self.own.start, dot, r, w, h, style, required);
+        self.own = 0..0;
+        placed
     }
 
     /// Chooses the box of `w × h` pixels for marker `index` at `dot` of radius `r`;
     /// also says whether it sits away from the marker (and needs a leader line).
-    /// Where every spot would cover more than a sixth of an earlier label, the label
-    /// is left out (`None`) unless it is `required`: in dense clusters of scans an
-    /// unreadable pile of numbers helps nobody.
+    /// Labels never overlap one another (nor protected markers): where every spot
+    /// near the marker would cover an earlier label the label is left out (`None`) unless it is
+    /// `required`, which then looks further out (and only when the whole
+    /// neighbourhood is taken overlaps the least).
     #[allow(clippy::too_many_arguments)]
     pub fn place(
         &mut self,
@@ -88,8 +119,10 @@ impl Placer {
             (0.0, 1.0),
         ];
         let (cx, cy) = dot;
-        let mut best = (f32::INFINITY, Rect::new(cx, cy, w, h), false);
-        for ring in 0..2 {
+        let rings = if required { 6 } else { 2 };
+        let mut best: Option<(f32, Rect, bool)> = None;
+        let mut fallback = (f32::INFINITY, Rect::new(cx, cy, w, h), false);
+        for ring in 0..rings {
             let d = r + 1.5 + ring as f32 * 12.0 * style.g as f32;
             for (k, &(ux, uy)) in DIRS.iter().enumerate() {
                 let diag = if ux != 0.0 && uy != 0.0 { 0.72 } else { 1.0 };
@@ -105,28 +138,43 @@ impl Placer {
                 };
                 let rect = Rect::new(x.round(), y.round(), w, h);
                 let cost = self.cost(index, &rect) + k as f32 * 3.0 + ring as f32 * 900.0;
-                if cost < best.0 {
-                    best = (cost, rect, ring > 0);
+                if cost < fallback.0 {
+                    fallback = (cost, rect, ring > 0);
+                }
+                let free = self.canvas.contains(&rect) && self.label_overlap(index, &rect) == 0.0;
+                if free && best.is_none_or(|b| cost < b.0) {
+                    best = Some((cost, rect, ring > 0));
                 }
             }
-            if best.0 < 100.0 {
-                break;
+            match best {
+                Some(b) if b.0 < 100.0 || ring >= 1 => break,
+                _ => {}
             }
         }
-        if !required && self.label_overlap(&best.1) > w * h / 6.0 {
-            return None;
-        }
-        self.index.insert(self.taken.len(), &best.1);
-        self.taken.push(best.1);
-        Some((best.1, best.2))
+        let (_, rect, far) = match best {
+            Some(b) => b,
+            None if required => fallback,
+            None => return None,
+        };
+        self.reserve(rect);
+        Some((rect, far))
     }
 
-    /// Area of `rect` covered by labels placed so far.
-    fn label_overlap(&mut self, rect: &Rect) -> f32 {
-        let (taken, markers) = (&self.taken, self.markers);
+    /// Keeps later labels off `rect` (a placed label, or another box of text).
+    pub fn reserve(&mut self, rect: Rect) {
+        self.index.insert(self.taken.len(), &rect);
+        self.taken.push(rect);
+    }
+
+    /// Area of `rect` covered by labels placed so far and by protected markers
+    /// other than those of the label (`index` and `own`).
+    fn label_overlap(&mut self, index: usize, rect: &Rect) -> f32 {
+        let (taken, markers, protected) = (&self.taken, self.markers, self.protected);
+        let own = self.own.clone();
         let mut area = 0.0;
         self.index.for_each_near(rect, |j| {
-            if j >= markers {
+            let counts = j >= markers || (j < protected && j != index && !own.contains(&j));
+            if counts {
                 area += rect.overlap(&taken[j]);
             }
         });
@@ -143,8 +191,9 @@ impl Placer {
             cost += 3000.0;
         }
         let (taken, markers) = (&self.taken, self.markers);
+        let own = self.own.clone();
         self.index.for_each_near(rect, |j| {
-            if j != index {
+            if j != index && !own.contains(&j) {
                 let weight = if j < markers { 60.0 } else { 40.0 };
                 cost += weight * rect.overlap(&taken[j]);
             }

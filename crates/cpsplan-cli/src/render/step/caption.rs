@@ -170,7 +170,7 @@ fn wrap(segments: &[String], room: i64, style: Style) -> Vec<String> {
 }
 
 /// "window 40 × 32 m of 80 × 60 m · 0.1 m cells", or the grid's size when whole.
-pub(super) fn window_info(g: &GridGeometry, w: &Window) -> String {
+pub(in crate::render) fn window_info(g: &GridGeometry, w: &Window) -> String {
     let (ex, ey) = g.extent();
     let res = g.resolution;
     if *w == Window::whole_of(g) {

@@ -23,7 +23,7 @@ use cpsplan::mission::{cycle_and_regions, CycleRecord, MoveRecord, Step, StepPla
 use cpsplan::parent::{Decision, ParentPlan};
 use cpsplan::{Config, OccupancyGrid, Point};
 
-use self::caption::{caption, window_info};
+use self::caption::caption;
 use self::legend::{legend, LegendTexts};
 use self::overlay::draw_overlay;
 use self::scores::ScoreRange;
@@ -32,10 +32,9 @@ use super::chrome::{Header, Style};
 use super::layout::{check_geometry, world_to_grid_xy, Class, Frame, MapLayout};
 use super::RenderError;
 
-#[cfg(not(test))]
-use self::window::Window;
+pub(super) use self::{caption::window_info, window::Window};
 #[cfg(test)]
-pub(super) use self::{scores::score_colour, tint::and_region_colour, window::Window};
+pub(super) use self::{scores::score_colour, tint::and_region_colour};
 
 /// One planning step as its figure needs it: where the team stood, the parent's
 /// planning round and the move that followed. Built from an episode's [`Step`]

@@ -23,11 +23,13 @@ impl Window {
         }
     }
 
-    pub(super) fn width(&self) -> usize {
+    /// Columns shown.
+    pub(in crate::render) fn width(&self) -> usize {
         self.x1 - self.x0
     }
 
-    pub(super) fn height(&self) -> usize {
+    /// Rows shown.
+    pub(in crate::render) fn height(&self) -> usize {
         self.y1 - self.y0
     }
 
@@ -74,10 +76,7 @@ impl Window {
             let n = n as f64;
             let limit_lo = (lo - margin).min(known.0 as f64 - margin).max(0.0);
             let limit_hi = (hi + margin).max(known.1 as f64 + margin).min(n);
-            let side = side.min(limit_hi - limit_lo);
-            let a = ((lo + hi) / 2.0 - side / 2.0).clamp(limit_lo, limit_hi - side);
-            let (a, b) = (a.floor(), (a + side).ceil().min(n));
-            (a as usize, (b as usize).max(a as usize + 1))
+            span_within((lo + hi) / 2.0, side, limit_lo, limit_hi, n)
         };
         let (x0, x1) = axis(lo.0, hi.0, w, (known.x0, known.x1), g.width);
         let (y0, y1) = axis(lo.1, hi.1, h, (known.y0, known.y1), g.height);
@@ -93,7 +92,7 @@ impl Window {
     }
 
     /// The smallest window holding every cell of `grid` that is not Unknown.
-    pub(super) fn known(grid: &OccupancyGrid) -> Option<Window> {
+    pub(in crate::render) fn known(grid: &OccupancyGrid) -> Option<Window> {
         let width = grid.width();
         let mut w: Option<Window> = None;
         for (i, _) in grid
@@ -118,7 +117,7 @@ impl Window {
     }
 
     /// The geometry of the window's cells (same world frame as `g`).
-    pub(super) fn geometry(&self, g: &GridGeometry) -> GridGeometry {
+    pub(in crate::render) fn geometry(&self, g: &GridGeometry) -> GridGeometry {
         let origin = g.grid_to_world(self.x0 as f64 * g.resolution, self.y0 as f64 * g.resolution);
         let mut w = GridGeometry::new(self.width(), self.height(), g.resolution, origin);
         w.yaw = g.yaw;
@@ -126,7 +125,7 @@ impl Window {
     }
 
     /// The window's part of a row-major per-cell array of a grid `width` cells wide.
-    pub(super) fn crop<T: Copy>(&self, values: &[T], width: usize) -> Vec<T> {
+    pub(in crate::render) fn crop<T: Copy>(&self, values: &[T], width: usize) -> Vec<T> {
         (self.y0..self.y1)
             .flat_map(|iy| {
                 values[iy * width + self.x0..iy * width + self.x1]
@@ -134,5 +133,36 @@ impl Window {
                     .copied()
             })
             .collect()
+    }
+}
+
+/// The cells `a..b` of an axis of `n` cells covering `side` cells about `centre`,
+/// shifted back inside `[limit_lo, limit_hi]` (and shortened to fit it). Robust to
+/// rounding: where `limit_hi - side` falls an ulp below `limit_lo` the span starts
+/// at `limit_lo` instead of panicking in `f64::clamp`.
+fn span_within(centre: f64, side: f64, limit_lo: f64, limit_hi: f64, n: f64) -> (usize, usize) {
+    let side = side.min(limit_hi - limit_lo).max(0.0);
+    let start = (centre - side / 2.0).min(limit_hi - side).max(limit_lo);
+    let (a, b) = (start.floor().max(0.0), (start + side).ceil().min(n));
+    (a as usize, (b as usize).max(a as usize + 1))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn span_survives_limits_an_ulp_apart() {
+        // limit_hi - (limit_hi - limit_lo) rounds to just below limit_lo here:
+        // `clamp(limit_lo, limit_hi - side)` would panic with min > max.
+        let (lo, hi) = (67.18212205620061, 857.683462243974);
+        assert!(hi - (hi - lo) < lo);
+        let (a, b) = span_within(500.0, 1e9, lo, hi, 900.0);
+        assert_eq!((a, b), (67, 858));
+        // Inside the limits the span keeps its side about the centre.
+        assert_eq!(span_within(100.0, 20.0, 0.0, 900.0, 900.0), (90, 110));
+        // Pushed back inside at both ends.
+        assert_eq!(span_within(2.0, 20.0, 0.0, 900.0, 900.0), (0, 20));
+        assert_eq!(span_within(899.0, 20.0, 0.0, 900.0, 900.0), (880, 900));
     }
 }
