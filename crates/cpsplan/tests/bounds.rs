@@ -70,10 +70,15 @@ fn run_small(config: &Config) {
     }
     if w.saturating_mul(h) > 200_000 {
         // Too fine for a quick run: the limits must still decide up front.
-        let _ = resample_for(&truth, &Config {
-            limits: cpsplan::config::LimitsConfig { max_grid_cells: 200_000 },
-            ..*config
-        })
+        let _ = resample_for(
+            &truth,
+            &Config {
+                limits: cpsplan::config::LimitsConfig {
+                    max_grid_cells: 200_000,
+                },
+                ..*config
+            },
+        )
         .expect_err("beyond the test's grid cap");
         return;
     }
@@ -141,6 +146,10 @@ fn non_numbers_are_refused_for_every_real_parameter() {
 #[test]
 fn every_bound_is_finite_and_ordered() {
     for b in BOUNDS {
-        assert!(b.min.is_finite() && b.max.is_finite() && b.min < b.max, "{}", b.key);
+        assert!(
+            b.min.is_finite() && b.max.is_finite() && b.min < b.max,
+            "{}",
+            b.key
+        );
     }
 }

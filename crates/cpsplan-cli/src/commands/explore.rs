@@ -204,7 +204,7 @@ pub fn run(args: &ExploreArgs) -> Result<()> {
 /// The warning for an episode whose scans cover less than 90 % of the free
 /// space connected to the start, with what the stop reason says about it.
 pub fn coverage_warning(s: &Summary) -> Option<String> {
-    if s.connected_coverage >= 0.9 {
+    if s.connected_coverage >= 0.9 && s.stop_reason != StopReason::StartRegionTooSmall {
         return None;
     }
     let why = match s.stop_reason {
@@ -237,10 +237,13 @@ pub fn coverage_warning(s: &Summary) -> Option<String> {
         }
         StopReason::Complete => "the rest lies beyond what the robots can reach".into(),
     };
+    let stop = if s.connected_coverage < 0.9 {
+        format!("less than 90 %, stop: {}", s.stop_reason.name())
+    } else {
+        format!("stop: {}", s.stop_reason.name())
+    };
     Some(format!(
-        "the scans cover {:.1} % of the free space connected to the start (less than 90 %, \
-         stop: {}): {why}",
-        s.connected_coverage * 100.0,
-        s.stop_reason.name()
+        "the scans cover {:.1} % of the free space connected to the start ({stop}): {why}",
+        s.connected_coverage * 100.0
     ))
 }

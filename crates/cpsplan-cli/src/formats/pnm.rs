@@ -81,7 +81,7 @@ pub(crate) fn read_raw(bytes: &[u8], max_pixels: u64) -> Result<Option<RawSample
     let pixels = u64::from(layout.width) * u64::from(layout.height);
     if pixels > max_pixels {
         return Err(format!(
-            "{} × {} pixels, more than the limit of {max_pixels}",
+            "{} × {} pixels, more than `limits.max_grid_cells` = {max_pixels}",
             layout.width, layout.height
         ));
     }

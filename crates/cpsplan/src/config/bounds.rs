@@ -494,7 +494,7 @@ impl Config {
                     "the map reaches {} m from the world origin, beyond the {} m at which \
                      cell positions stay exact; shift its origin",
                     approx(far),
-                    number(MAX_COORDINATE_M)
+                    approx(MAX_COORDINATE_M)
                 ),
             );
         }
