@@ -11,9 +11,19 @@ fn cpsplan() -> Command {
     Command::cargo_bin("cpsplan").expect("binary built")
 }
 
-fn shared_maps() -> Option<PathBuf> {
+/// The shared real maps (`../shared/maps` beside the project), or `None` after
+/// saying, past the test harness's capture, that `test` is skipped.
+fn shared_maps(test: &str) -> Option<PathBuf> {
     let p = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/maps");
-    p.is_dir().then_some(p)
+    if p.is_dir() {
+        return Some(p);
+    }
+    use std::io::Write as _;
+    let _ = writeln!(
+        std::io::stderr(),
+        "SKIPPED {test}: needs the shared real maps in ../shared/maps (see README)"
+    );
+    None
 }
 
 fn summary(dir: &Path) -> Value {
@@ -388,8 +398,7 @@ fn explore_shared(dir: &Path, name: &str, min_coverage: f64, extra: &[&str]) {
 
 #[test]
 fn shared_real_maps_are_explored() {
-    let Some(dir) = shared_maps() else {
-        eprintln!("../shared/maps not found: skipping");
+    let Some(dir) = shared_maps("shared_real_maps_are_explored") else {
         return;
     };
     let mut names: Vec<String> = std::fs::read_dir(&dir)
@@ -420,8 +429,7 @@ fn shared_real_maps_are_explored() {
 /// (`scripts/shared-maps.sh` runs it with children; see docs/RESULTS.md).
 #[test]
 fn shared_campus_map_is_explored() {
-    let Some(dir) = shared_maps() else {
-        eprintln!("../shared/maps not found: skipping");
+    let Some(dir) = shared_maps("shared_campus_map_is_explored") else {
         return;
     };
     explore_shared(&dir, "cit_tsudanuma_campus", 0.99, &["--children", "0"]);

@@ -49,10 +49,16 @@ const EXPECTED: &[(&str, usize, usize, f64, f64, f64, f64)] = &[
     ("yujin_rnd_office", 732, 389, 0.05, 0.214, 0.024, 0.762),
 ];
 
-fn shared_maps() -> Option<Vec<PathBuf>> {
+/// The shared real maps' YAML files, or `None` after saying, past the test
+/// harness's capture, that `test` is skipped.
+fn shared_maps(test: &str) -> Option<Vec<PathBuf>> {
     let dir = Path::new(MAPS_DIR);
     if !dir.is_dir() {
-        println!("note: {MAPS_DIR} not found; skipping the shared-map tests");
+        use std::io::Write as _;
+        let _ = writeln!(
+            std::io::stderr(),
+            "SKIPPED {test}: needs the shared real maps in ../shared/maps (see README)"
+        );
         return None;
     }
     let mut yamls: Vec<PathBuf> = fs::read_dir(dir)
@@ -70,7 +76,9 @@ fn fraction(grid: &OccupancyGrid, state: CellState) -> f64 {
 
 #[test]
 fn every_shared_map_loads_with_the_documented_fractions() {
-    let Some(yamls) = shared_maps() else { return };
+    let Some(yamls) = shared_maps("every_shared_map_loads_with_the_documented_fractions") else {
+        return;
+    };
     assert!(!yamls.is_empty(), "no YAML files in {MAPS_DIR}");
     let mut checked = 0;
     for yaml in &yamls {
@@ -125,7 +133,9 @@ fn every_shared_map_loads_with_the_documented_fractions() {
 
 #[test]
 fn shared_maps_resampled_keep_every_obstacle() {
-    let Some(yamls) = shared_maps() else { return };
+    let Some(yamls) = shared_maps("shared_maps_resampled_keep_every_obstacle") else {
+        return;
+    };
     for yaml in &yamls {
         let grid = load_map(yaml).unwrap();
         let coarse = resample_conservative(&grid, 0.1);

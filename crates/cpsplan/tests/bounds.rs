@@ -153,3 +153,21 @@ fn every_bound_is_finite_and_ordered() {
         );
     }
 }
+
+#[test]
+fn the_user_guide_lists_every_bound() {
+    let guide = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../docs/USER-GUIDE.md"
+    ))
+    .expect("docs/USER-GUIDE.md");
+    for b in BOUNDS {
+        let row = format!(
+            "| `{}` | {} | {} |",
+            b.key,
+            cpsplan::config::number(b.min),
+            cpsplan::config::number(b.max)
+        );
+        assert!(guide.contains(&row), "USER-GUIDE.md lacks `{row}`");
+    }
+}
