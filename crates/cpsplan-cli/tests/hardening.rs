@@ -505,8 +505,12 @@ fn reports_are_all_or_nothing() {
     std::fs::create_dir_all(out.join("map.png")).unwrap();
     refused(&["explore", "--max-scans", "1", "--out", s(&out)]);
     assert!(!out.join("episode.json").exists() && !out.join("metrics.csv").exists());
-    // An earlier report is replaced whole: no stale step figures.
+    // An earlier report is replaced whole: no stale step figures; the
+    // temporary directory of a killed run into the same place is removed.
     let out = t.path().join("report");
+    let stale = t.path().join(".report.cpsplan-tmp-4194304999");
+    std::fs::create_dir(&stale).unwrap();
+    write(&stale, "episode.json", "{}");
     cpsplan()
         .args(["explore", "-q", "--max-scans", "3", "--step-figure", "3"])
         .args(["--out", s(&out)])

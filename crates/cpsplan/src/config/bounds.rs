@@ -487,7 +487,7 @@ impl Config {
         .into_iter()
         .map(f64::abs)
         .fold(0.0, |a, b| if b.is_nan() || b > a { b } else { a });
-        if !(far <= MAX_COORDINATE_M) {
+        if far.is_nan() || far > MAX_COORDINATE_M {
             return grid(
                 "origin",
                 format!(
@@ -583,8 +583,10 @@ mod tests {
         c.children.max_range = Some(1.0); // below the 1.3 m minimum
         assert_eq!(c.validate().unwrap_err().key(), "children.min_range");
 
-        let mut c = Config::default();
-        c.resolution = 50.0;
+        let mut c = Config {
+            resolution: 50.0,
+            ..Config::default()
+        };
         assert!(c.validate().is_err());
         c.resolution = 10.0;
         assert_eq!(c.validate().unwrap_err().key(), "scanner.range");
