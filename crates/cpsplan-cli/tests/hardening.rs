@@ -593,6 +593,12 @@ fn messages_are_one_line_with_each_cause_once() {
     let c = write(t.path(), "r.toml", "[scanner]\nrange = 1e300\n");
     let e = refused(&["explore", "--config", s(&c)]);
     assert!(e.len() < 200, "{e}");
+    // Huge numbers print short.
+    let e = refused_with(
+        &["explore", "--start", "1e300,5"],
+        &["1e300", "outside the map"],
+    );
+    assert!(e.len() < 200, "{e}");
 }
 
 #[test]

@@ -56,7 +56,7 @@ pub enum RenderError {
         height: usize,
     },
     /// The grid's cell width is not a positive finite number.
-    #[error("cannot draw a map with resolution {0} m: it must be a positive number")]
+    #[error("cannot draw a map with resolution {} m: it must be a positive number", cpsplan::config::number(*.0))]
     BadResolution(f64),
     /// The episode's knowledge map and the ground truth differ in size.
     #[error(

@@ -10,7 +10,7 @@ use thiserror::Error;
 use super::accuracy::Tracker;
 use super::record::MoveRecord;
 use super::team;
-use crate::config::{Config, ConfigError};
+use crate::config::{number, Config, ConfigError};
 use crate::geom::{Cell, Point};
 use crate::grid::{CellState, OccupancyGrid};
 use crate::parent::{Decision, ParentPlan};
@@ -24,7 +24,10 @@ pub enum MissionError {
     #[error(transparent)]
     Config(#[from] ConfigError),
     /// The start lies outside the map.
-    #[error("start ({x}, {y}) is outside the map (x {x0}..{x1} m, y {y0}..{y1} m)")]
+    #[error(
+        "start ({}, {}) is outside the map (x {} to {} m, y {} to {} m)",
+        number(*x), number(*y), number(*x0), number(*x1), number(*y0), number(*y1)
+    )]
     StartOutsideMap {
         /// Start x.
         x: f64,
@@ -40,7 +43,11 @@ pub enum MissionError {
         y1: f64,
     },
     /// The start is not in free space.
-    #[error("start ({x}, {y}) is inside an obstacle or unknown space, not free space")]
+    #[error(
+        "start ({}, {}) is inside an obstacle or unknown space, not free space",
+        number(*x),
+        number(*y)
+    )]
     StartNotFree {
         /// Start x.
         x: f64,

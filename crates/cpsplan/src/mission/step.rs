@@ -39,7 +39,7 @@ pub enum PlanError {
     #[error(transparent)]
     Config(#[from] ConfigError),
     /// A robot stands outside the map.
-    #[error("{robot} at ({x}, {y}) is outside the map")]
+    #[error("{robot} at ({}, {}) is outside the map", number(*x), number(*y))]
     OutsideMap {
         /// Which robot ("parent", "child 1", ...).
         robot: String,
@@ -49,7 +49,7 @@ pub enum PlanError {
         y: f64,
     },
     /// A robot stands on a cell that is not known to be free.
-    #[error("{robot} at ({x}, {y}) is not on known free space")]
+    #[error("{robot} at ({}, {}) is not on known free space", number(*x), number(*y))]
     NotFree {
         /// Which robot.
         robot: String,
@@ -59,7 +59,11 @@ pub enum PlanError {
         y: f64,
     },
     /// Two robots stand on the same cell of the planning grid.
-    #[error("{robot} at ({x}, {y}) stands on the same cell as {other}")]
+    #[error(
+        "{robot} at ({}, {}) stands on the same cell as {other}",
+        number(*x),
+        number(*y)
+    )]
     SameCell {
         /// The later robot.
         robot: String,
