@@ -28,7 +28,7 @@ use cpsplan::config::number;
 use cpsplan::{CellState, Config, GridGeometry, OccupancyGrid, Point};
 use image::{DynamicImage, ImageFormat, ImageReader};
 
-use super::pnm;
+use super::{png_chunks, pnm};
 use serde::Deserialize;
 
 /// Default `occupied_thresh` (ROS `map_server`).
@@ -384,7 +384,10 @@ impl MapMetadata {
                 Ok(None) => Raster::Decoded(decode(bytes, format, path, limits)?),
                 Err(message) => return Err(unsupported(message)),
             },
-            _ => Raster::Decoded(decode(bytes, format, path, limits)?),
+            _ => {
+                png_chunks::check(bytes).map_err(unsupported)?;
+                Raster::Decoded(decode(bytes, format, path, limits)?)
+            }
         };
         let (w, h) = raster.size();
         if w == 0 || h == 0 {
