@@ -232,6 +232,23 @@ mod tests {
     }
 
     #[test]
+    fn huge_and_odd_ranges_end_and_see_what_the_grid_holds() {
+        // Ranges whose squares overflow an i64 once looped forever.
+        let g = geom(40, 30);
+        let walls: HashSet<usize> = [g.index(Cell::new(25, 10))].into_iter().collect();
+        let o = Cell::new(20, 10);
+        let mut whole = collect(&g, o, 70.0, &walls);
+        whole.sort_unstable();
+        for r in [1e9, 3.1e9, 1e18, 1e300, f64::INFINITY] {
+            let mut v = collect(&g, o, r, &walls);
+            v.sort_unstable();
+            assert_eq!(v, whole, "range {r}");
+        }
+        assert_eq!(collect(&g, o, f64::NAN, &walls), vec![g.index(o)]);
+        assert_eq!(collect(&g, o, -5.0, &walls), vec![g.index(o)]);
+    }
+
+    #[test]
     fn open_disc_is_exactly_the_disc() {
         let g = geom(41, 41);
         let o = Cell::new(20, 20);
