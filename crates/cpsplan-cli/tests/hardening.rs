@@ -560,9 +560,11 @@ fn plan_leaves_no_figure_when_stdout_fails() {
             k.display(),
             fig.display()
         ))
-        .status()
+        .output()
         .unwrap();
-    assert_eq!(status.code(), Some(2));
+    let err = String::from_utf8_lossy(&status.stderr);
+    assert_eq!(status.status.code(), Some(2), "{err}");
+    assert!(err.contains("cannot write the plan"), "{err}");
     assert!(!fig.exists());
     let left: Vec<_> = std::fs::read_dir(t.path())
         .unwrap()
