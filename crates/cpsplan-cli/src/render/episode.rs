@@ -3,6 +3,7 @@
 //! numbers, and a legend of exactly what is drawn; and its larger version for maps
 //! where the normal picture has to leave scan numbers out.
 
+use cpsplan::mission::CycleRecord;
 use cpsplan::world::CoverageTracker;
 use cpsplan::{CellState, Episode, OccupancyGrid};
 
@@ -264,16 +265,7 @@ fn classes(truth: &OccupancyGrid, episode: &Episode) -> Result<Vec<Class>, Rende
 /// paths and places.
 fn episode_points(episode: &Episode) -> impl Iterator<Item = cpsplan::Point> + '_ {
     let steps = episode.steps.iter().flat_map(|s| {
-        let cycles = s.movement.cycles.iter().flat_map(|c| {
-            [c.parent_from, c.parent_to]
-                .into_iter()
-                .chain(c.parent_path.iter().copied())
-                .chain(
-                    c.children
-                        .iter()
-                        .flat_map(|k| [k.from, k.to].into_iter().chain(k.path.iter().copied())),
-                )
-        });
+        let cycles = s.movement.cycles.iter().flat_map(CycleRecord::points);
         std::iter::once(s.position)
             .chain(s.children.iter().copied())
             .chain(s.driven_path())

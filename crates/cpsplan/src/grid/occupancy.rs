@@ -4,6 +4,7 @@
 
 use serde::{Deserialize, Serialize};
 
+use crate::config::{Config, ConfigError};
 use crate::geom::{Cell, Point};
 
 /// What is known about one cell.
@@ -37,6 +38,17 @@ pub struct GridGeometry {
 }
 
 impl GridGeometry {
+    /// Checks this grid's size and placement against `config`'s limits
+    /// ([`Config::check_grid`]).
+    pub fn check_limits(&self, config: &Config) -> Result<(), ConfigError> {
+        config.check_grid(
+            self.width as u64,
+            self.height as u64,
+            self.resolution,
+            (self.origin.x, self.origin.y),
+        )
+    }
+
     /// An axis-aligned grid of `width × height` cells.
     pub fn new(width: usize, height: usize, resolution: f64, origin: Point) -> Self {
         Self {

@@ -268,12 +268,7 @@ pub fn run_episode_with(
 ) -> Result<Episode, MissionError> {
     config.validate()?;
     let g = *truth.geometry();
-    config.check_grid(
-        g.width as u64,
-        g.height as u64,
-        g.resolution,
-        (g.origin.x, g.origin.y),
-    )?;
+    g.check_limits(config)?;
     let truth = truth.solidified();
     let cell = g.world_to_cell(start).ok_or_else(|| {
         let (ex, ey) = g.extent();

@@ -54,6 +54,21 @@ pub struct CycleRecord {
     pub search_gap: Option<f64>,
 }
 
+impl CycleRecord {
+    /// Every point the cycle holds, world frame: the parent's two positions and
+    /// driven path, then each child's two places and driven path.
+    pub fn points(&self) -> impl Iterator<Item = Point> + '_ {
+        [self.parent_from, self.parent_to]
+            .into_iter()
+            .chain(self.parent_path.iter().copied())
+            .chain(
+                self.children
+                    .iter()
+                    .flat_map(|k| [k.from, k.to].into_iter().chain(k.path.iter().copied())),
+            )
+    }
+}
+
 /// A target the parent could not reach by CPS cycles.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct RejectedTarget {

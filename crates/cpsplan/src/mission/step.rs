@@ -124,12 +124,7 @@ pub fn plan_step(
     config.children.count = children.len();
     config.validate()?;
     let g = *knowledge.geometry();
-    config.check_grid(
-        g.width as u64,
-        g.height as u64,
-        g.resolution,
-        (g.origin.x, g.origin.y),
-    )?;
+    g.check_limits(&config)?;
     let locate = |robot: String, p: Point| -> Result<Cell, PlanError> {
         let cell = g.world_to_cell(p).ok_or(PlanError::OutsideMap {
             robot: robot.clone(),

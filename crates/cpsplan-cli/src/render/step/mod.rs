@@ -119,16 +119,7 @@ impl<'a> StepView<'a> {
 
     /// Every point the figure draws, world frame.
     fn points(&self) -> impl Iterator<Item = Point> + '_ {
-        let cycles = self.movement.cycles.iter().flat_map(|c: &CycleRecord| {
-            [c.parent_from, c.parent_to]
-                .into_iter()
-                .chain(c.parent_path.iter().copied())
-                .chain(
-                    c.children
-                        .iter()
-                        .flat_map(|k| [k.from, k.to].into_iter().chain(k.path.iter().copied())),
-                )
-        });
+        let cycles = self.movement.cycles.iter().flat_map(CycleRecord::points);
         std::iter::once(self.position)
             .chain(self.children.iter().copied())
             .chain(self.plan.candidates.iter().map(|c| c.position))
