@@ -27,6 +27,8 @@
 //! - [`mission`] (stage 8): the scan → plan → move loop, its records, and
 //!   [`mission::plan_step`], one step for a real team ("move to the target
 //!   positions").
+//! - [`model`] (stage 9, sections III and V-B): the registered 3D model, every scan's
+//!   points in the parent's estimated pose, and its accuracy against the walls.
 //!
 //! Stage numbers are those of the design notes (DESIGN.md). The CPS measurement
 //! chain (stage 7) sits below the planners in the import order because the
@@ -80,6 +82,9 @@ pub mod motion;
 
 // Stage 8.
 pub mod mission;
+
+// Stage 9.
+pub mod model;
 
 pub use config::Config;
 pub use geom::{Cell, Point};

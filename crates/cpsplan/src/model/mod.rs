@@ -1,0 +1,12 @@
+//! The registered 3D model (pipeline stage 9, the paper's output): every scan's
+//! points expressed in the parent's *estimated* pose at that scan, the CPS
+//! positions alone aligning the scans with no ICP ("simple algebra", section
+//! III; the models of V-B and V-C), and the model's accuracy against the ground-truth walls.
+//!
+//! In: the ground truth, an [`crate::Episode`] and its configuration. Out: the
+//! points of each scan, the scan stations, and the distances of the points to the
+//! ground-truth walls.
+
+mod points;
+
+pub use points::{ModelPoint, ModelStation};
