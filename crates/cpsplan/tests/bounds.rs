@@ -4,6 +4,7 @@
 //! whole (small) episode then runs without panicking, within the limits.
 
 use cpsplan::config::{Bound, ConfigError, BOUNDS};
+use cpsplan::model::build_model;
 use cpsplan::world::{default_start, resample_for, resampled_size};
 use cpsplan::{run_episode, CellState, Config, GridGeometry, OccupancyGrid, Point};
 use proptest::prelude::*;
@@ -75,6 +76,7 @@ fn run_small(config: &Config) {
             &Config {
                 limits: cpsplan::config::LimitsConfig {
                     max_grid_cells: 200_000,
+                    ..config.limits
                 },
                 ..*config
             },
@@ -92,6 +94,12 @@ fn run_small(config: &Config) {
     let episode = run_episode(&grid, start, &config, |_| {}).expect("a valid configuration runs");
     assert!(!episode.steps.is_empty());
     assert!(episode.steps.len() <= config.mission.max_scans);
+    // Its registered 3D model, within a small point cap.
+    config.limits.max_cloud_points = config.limits.max_cloud_points.min(2_000_000);
+    match build_model(&grid, &episode, &config, |_, _| {}) {
+        Ok(m) => assert!(m.accuracy.mean_distance_m.is_finite()),
+        Err(e) => assert!(e.to_string().contains("limits.max_cloud_points"), "{e}"),
+    }
 }
 
 proptest! {

@@ -28,5 +28,5 @@ pub use batch::{batch_station_covariance, CycleGeometry};
 pub use chain::{Chain, ChainError, PoseCovariance};
 pub use instrument::{Instrument, ARCSEC};
 pub use model::Model;
-pub use monte_carlo::{monte_carlo, MonteCarlo};
+pub use monte_carlo::{monte_carlo, realisation, MonteCarlo};
 pub use placement::Objective;

@@ -50,21 +50,10 @@ pub fn monte_carlo(
     runs: usize,
     seed: u64,
 ) -> Result<MonteCarlo, ChainError> {
-    let n = cycles.first().map_or(0, |c| c.children.len());
-    // The analytic priors of every resection, shared by all runs.
-    let mut chain = Chain::new(*model, start, n);
-    let mut priors = Vec::with_capacity(cycles.len());
-    for c in cycles {
-        chain.cycle(c.to, &c.children, &c.moved)?;
-        priors.push(chain.prior_info().clone());
-    }
+    let priors = priors(model, start, cycles)?;
     let errors: Vec<Vec<[f64; 4]>> = (0..runs)
         .into_par_iter()
-        .map(|run| {
-            let mut rng =
-                ChaCha8Rng::seed_from_u64(seed ^ (run as u64).wrapping_mul(0x9e37_79b9_7f4a_7c15));
-            one_run(model, start, cycles, &priors, &mut rng)
-        })
+        .map(|run| one_run(model, start, cycles, &priors, &mut run_rng(seed, run)))
         .collect();
     let k = cycles.len();
     let mut mean_error = vec![0.0; k];
@@ -95,6 +84,48 @@ pub fn monte_carlo(
         mean_error,
         covariance,
     })
+}
+
+/// One noisy realisation of the chain, run `run` of [`monte_carlo`] with the same
+/// `seed`: per cycle, the error `[x, y, z, ω]` of the estimated station (metres
+/// and radians; `z` is 0 in 2D). The registered 3D model expresses each scan in
+/// the pose this estimate gives.
+pub fn realisation(
+    model: &Model,
+    start: Point,
+    cycles: &[CycleGeometry],
+    seed: u64,
+    run: usize,
+) -> Result<Vec<[f64; 4]>, ChainError> {
+    let priors = priors(model, start, cycles)?;
+    Ok(one_run(
+        model,
+        start,
+        cycles,
+        &priors,
+        &mut run_rng(seed, run),
+    ))
+}
+
+/// The analytic priors of every resection, shared by all runs.
+fn priors(
+    model: &Model,
+    start: Point,
+    cycles: &[CycleGeometry],
+) -> Result<Vec<DMatrix<f64>>, ChainError> {
+    let n = cycles.first().map_or(0, |c| c.children.len());
+    let mut chain = Chain::new(*model, start, n);
+    let mut priors = Vec::with_capacity(cycles.len());
+    for c in cycles {
+        chain.cycle(c.to, &c.children, &c.moved)?;
+        priors.push(chain.prior_info().clone());
+    }
+    Ok(priors)
+}
+
+/// The random numbers of run `run`.
+fn run_rng(seed: u64, run: usize) -> ChaCha8Rng {
+    ChaCha8Rng::seed_from_u64(seed ^ (run as u64).wrapping_mul(0x9e37_79b9_7f4a_7c15))
 }
 
 /// One realisation: per cycle, the error `[x, y, z, ω]` of the estimated station.

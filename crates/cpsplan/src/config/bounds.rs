@@ -34,6 +34,10 @@ pub struct Bound {
 /// Longest side of any grid, in cells.
 pub const MAX_GRID_SIDE: usize = 1 << 20;
 
+/// Most points of one wall column of the registered model
+/// (`model.wall_height / model.vertical_step`).
+pub const MAX_WALL_SAMPLES: f64 = 10_000.0;
+
 /// Greatest distance of any map coordinate from the world origin, metres: it
 /// keeps cell positions exact to a millionth of a cell at the finest resolution.
 pub const MAX_COORDINATE_M: f64 = 1e8;
@@ -237,6 +241,28 @@ pub const BOUNDS: &[Bound] = &[
         "",
         accuracy.monte_carlo_runs
     ),
+    real!("model.wall_height", 0.01, 1_000.0, "m", model.wall_height),
+    real!(
+        "model.vertical_step",
+        0.001,
+        100.0,
+        "m",
+        model.vertical_step
+    ),
+    real!(
+        "model.scanner_height",
+        0.0,
+        1_000.0,
+        "m",
+        model.scanner_height
+    ),
+    optional!(
+        "model.range_sigma_mm",
+        0.0,
+        1_000.0,
+        "mm",
+        model.range_sigma_mm
+    ),
     count!("mission.max_scans", 1.0, 100_000.0, "", mission.max_scans),
     count!(
         "limits.max_grid_cells",
@@ -244,6 +270,13 @@ pub const BOUNDS: &[Bound] = &[
         4e9,
         "cells",
         limits.max_grid_cells
+    ),
+    count!(
+        "limits.max_cloud_points",
+        1.0,
+        1e10,
+        "points",
+        limits.max_cloud_points
     ),
 ];
 
@@ -401,6 +434,16 @@ impl Config {
                     hi,
                 );
             }
+        }
+        let m = &self.model;
+        if m.wall_height > MAX_WALL_SAMPLES * m.vertical_step {
+            return conflict(
+                "model.wall_height",
+                m.wall_height,
+                "must be at most 10000 ×",
+                "model.vertical_step",
+                m.vertical_step,
+            );
         }
         if self.children.count > 0 {
             self.check_link_range()?;

@@ -5,7 +5,7 @@
 mod bounds;
 
 pub use self::bounds::{
-    approx, number, Bound, ConfigError, BOUNDS, MAX_COORDINATE_M, MAX_GRID_SIDE,
+    approx, number, Bound, ConfigError, BOUNDS, MAX_COORDINATE_M, MAX_GRID_SIDE, MAX_WALL_SAMPLES,
 };
 
 use serde::{Deserialize, Serialize};
@@ -327,6 +327,34 @@ pub struct AccuracyConfig {
     pub monte_carlo_runs: usize,
 }
 
+/// The registered 3D model each simulated scan contributes to (stage 9,
+/// [`crate::model`]): the seen wall cells extruded to a wall height and sampled
+/// vertically, every point with the scanner's range noise.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct ModelConfig {
+    /// Height of the walls over the floor, m.
+    pub wall_height: f64,
+    /// Vertical spacing of the points on a wall, m.
+    pub vertical_step: f64,
+    /// Height of the scanner's centre over the floor, m.
+    pub scanner_height: f64,
+    /// 1σ range noise of every point, mm (the instrument's distance accuracy
+    /// `a + b·d` when absent).
+    pub range_sigma_mm: Option<f64>,
+}
+
+impl Default for ModelConfig {
+    fn default() -> Self {
+        Self {
+            wall_height: 2.0,
+            vertical_step: 0.1,
+            scanner_height: 1.0,
+            range_sigma_mm: None,
+        }
+    }
+}
+
 /// The mission loop.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
@@ -348,12 +376,16 @@ pub struct LimitsConfig {
     /// Most cells of the planning grid (and pixels of a map image). The default,
     /// 150 million, holds a 1 km × 1 km site at 0.1 m with half again to spare.
     pub max_grid_cells: usize,
+    /// Most points of a point cloud read or written. The default, 200 million,
+    /// takes about 5 GB as coordinates.
+    pub max_cloud_points: usize,
 }
 
 impl Default for LimitsConfig {
     fn default() -> Self {
         Self {
             max_grid_cells: 150_000_000,
+            max_cloud_points: 200_000_000,
         }
     }
 }
@@ -380,6 +412,8 @@ pub struct Config {
     pub instrument: InstrumentConfig,
     /// The accuracy model's options.
     pub accuracy: AccuracyConfig,
+    /// The registered 3D model.
+    pub model: ModelConfig,
     /// Size limits.
     pub limits: LimitsConfig,
 }
@@ -396,6 +430,7 @@ impl Default for Config {
             mission: MissionConfig::default(),
             instrument: InstrumentConfig::default(),
             accuracy: AccuracyConfig::default(),
+            model: ModelConfig::default(),
             limits: LimitsConfig::default(),
         }
     }

@@ -89,8 +89,9 @@ impl GridGeometry {
             .then(|| Cell::new(x as usize, y as usize))
     }
 
-    /// Grid-frame coordinates (metres from the origin, unrotated) of a world point.
-    fn to_local(self, p: Point) -> (f64, f64) {
+    /// Grid-frame coordinates (metres from the origin along the grid's rows and
+    /// columns) of a world point; the inverse of [`Self::grid_to_world`].
+    pub fn to_local(self, p: Point) -> (f64, f64) {
         let (dx, dy) = (p.x - self.origin.x, p.y - self.origin.y);
         let (s, c) = self.yaw.sin_cos();
         (c * dx + s * dy, -s * dx + c * dy)

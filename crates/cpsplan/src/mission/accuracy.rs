@@ -6,7 +6,7 @@ use serde::{Deserialize, Serialize};
 
 use super::record::{CycleRecord, MoveRecord};
 use crate::accuracy::{
-    monte_carlo, Chain, CycleGeometry, Instrument, Model, PoseCovariance, ARCSEC,
+    monte_carlo, realisation, Chain, CycleGeometry, Instrument, Model, PoseCovariance, ARCSEC,
 };
 use crate::config::Config;
 use crate::geom::Point;
@@ -29,6 +29,39 @@ impl From<PoseCovariance> for PoseAccuracy {
             covariance_m2: [[p.xx, p.xy], [p.xy, p.yy]],
             heading_sigma_arcsec: p.heading_sigma() / ARCSEC,
         }
+    }
+}
+
+/// The parent's pose at one scan as the CPS estimated it in one noisy
+/// realisation of the campaign (the first Monte Carlo run): the pose the scan's
+/// points are expressed in ([`crate::model`]).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct PoseEstimate {
+    /// The estimated scan position, world frame.
+    pub position: Point,
+    /// Radial error of that position, metres.
+    pub position_error_m: f64,
+    /// Error of the estimated height, metres (0 in 2D).
+    pub height_error_m: f64,
+    /// Error of the estimated heading, arc seconds.
+    pub heading_error_arcsec: f64,
+}
+
+impl PoseEstimate {
+    /// The estimate of a pose truly at `truth` with error `[x, y, z, ω]` (metres,
+    /// radians).
+    pub fn new(truth: Point, error: [f64; 4]) -> Self {
+        Self {
+            position: Point::new(truth.x + error[0], truth.y + error[1]),
+            position_error_m: error[0].hypot(error[1]),
+            height_error_m: error[2],
+            heading_error_arcsec: error[3] / ARCSEC,
+        }
+    }
+
+    /// The heading error, radians.
+    pub fn heading_error_rad(&self) -> f64 {
+        self.heading_error_arcsec * ARCSEC
     }
 }
 
@@ -101,6 +134,15 @@ impl Tracker {
             self.move_ends.push(self.cycles.len() - 1);
         }
         self.chain = Some(next);
+    }
+
+    /// The pose error `[x, y, z, ω]` at every scan after the first (one per
+    /// executed move) in the first Monte Carlo run seeded by `seed`; `None`
+    /// without a chain.
+    pub fn realisation(&self, seed: u64) -> Option<Vec<[f64; 4]>> {
+        let chain = self.chain.as_ref()?;
+        let errors = realisation(chain.model(), self.start, &self.cycles, seed, 0).ok()?;
+        Some(self.move_ends.iter().map(|&c| errors[c]).collect())
     }
 
     /// The Monte Carlo mean radial error at every scan after the first (one per

@@ -7,7 +7,7 @@ use rand_chacha::ChaCha8Rng;
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
-use super::accuracy::Tracker;
+use super::accuracy::{PoseEstimate, Tracker};
 use super::record::MoveRecord;
 use super::team;
 use crate::config::{number, Config, ConfigError};
@@ -158,6 +158,10 @@ pub struct Step {
     /// the runs, metres.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub monte_carlo_error_m: Option<f64>,
+    /// With a Monte Carlo check: the pose the CPS estimated for this scan in the
+    /// first run (the pose its points are registered in, [`crate::model`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub estimate: Option<PoseEstimate>,
     /// The move that followed: CPS cycles to the target (empty without children or
     /// when the mission stopped here).
     #[serde(rename = "move")]
@@ -348,6 +352,7 @@ pub fn run_episode_with(
             covariance_m2: accuracy.map(|a| a.covariance_m2),
             heading_sigma_arcsec: accuracy.map(|a| a.heading_sigma_arcsec),
             monte_carlo_error_m: None,
+            estimate: None,
             plan,
             movement,
         };
@@ -396,6 +401,12 @@ pub fn run_episode_with(
         steps[0].monte_carlo_error_m = Some(0.0);
         for (step, &e) in steps[1..].iter_mut().zip(errors) {
             step.monte_carlo_error_m = Some(e);
+        }
+    }
+    if let Some(errors) = mc.as_ref().and_then(|_| chain.realisation(config.seed)) {
+        steps[0].estimate = Some(PoseEstimate::new(steps[0].position, [0.0; 4]));
+        for (step, e) in steps[1..].iter_mut().zip(errors) {
+            step.estimate = Some(PoseEstimate::new(step.position, e));
         }
     }
     let summary = Summary {

@@ -24,7 +24,7 @@ mod record;
 mod step;
 mod team;
 
-pub use accuracy::{PoseAccuracy, Tracker};
+pub use accuracy::{PoseAccuracy, PoseEstimate, Tracker};
 pub use episode::{
     parent_path, run_episode, run_episode_with, Episode, MissionError, Step, StopReason, Summary,
     START_REGION_SHARE, START_REGION_SHARE_OF_MAP,

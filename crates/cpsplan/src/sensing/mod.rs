@@ -19,7 +19,7 @@ mod shadowcast;
 mod sight;
 mod view;
 
-pub use scanner::{expected_gain, scan, ScanOutcome};
+pub use scanner::{expected_gain, scan, seen_walls, ScanOutcome};
 pub use shadowcast::visible_cells;
 pub use sight::{sight_clear, LinkRule, SightField};
 pub use view::{certain_view, mutual_view, seen_by_both, View};

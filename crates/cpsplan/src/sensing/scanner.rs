@@ -36,15 +36,14 @@ pub fn scan(
     range_cells: f64,
     mut on_new: impl FnMut(usize),
 ) -> ScanOutcome {
-    let geometry = *truth.geometry();
-    debug_assert_eq!(geometry.len(), knowledge.cells().len());
-    let (w, h) = (geometry.width, geometry.height);
+    debug_assert_eq!(truth.cells().len(), knowledge.cells().len());
     let t = truth.cells();
     let k = knowledge.cells_mut();
-    let r2 = range_cells * range_cells + 1e-9;
-    let (ax, ay) = (at.x as i64, at.y as i64);
     let mut out = ScanOutcome::default();
-    let mut reveal = |i: usize, k: &mut [CellState], out: &mut ScanOutcome| {
+    sweep(truth, at, range_cells, |i, swept| {
+        if swept {
+            out.seen += 1;
+        }
         if k[i] == CellState::Unknown {
             if t[i] == CellState::Free {
                 out.new_free += 1;
@@ -55,15 +54,42 @@ pub fn scan(
             }
             on_new(i);
         }
-    };
+    });
+    out
+}
+
+/// The cells of `truth` that are not Free and that a scan from `at` with range
+/// `range_cells` sees (the sweep and wall completion of [`scan`]): the walls
+/// the scan's points lie on. Sorted, each once.
+pub fn seen_walls(truth: &OccupancyGrid, at: Cell, range_cells: f64) -> Vec<usize> {
+    let t = truth.cells();
+    let mut walls = Vec::new();
+    sweep(truth, at, range_cells, |i, _| {
+        if t[i] != CellState::Free {
+            walls.push(i);
+        }
+    });
+    walls.sort_unstable();
+    walls.dedup();
+    walls
+}
+
+/// The visibility sweep of a scan with wall completion: `visit(i, true)` for
+/// every cell the sweep sees, `visit(j, false)` for every wall cell wall
+/// completion adds (possibly more than once, possibly one the sweep saw).
+fn sweep(truth: &OccupancyGrid, at: Cell, range_cells: f64, mut visit: impl FnMut(usize, bool)) {
+    let geometry = *truth.geometry();
+    let (w, h) = (geometry.width, geometry.height);
+    let t = truth.cells();
+    let r2 = range_cells * range_cells + 1e-9;
+    let (ax, ay) = (at.x as i64, at.y as i64);
     visible_cells(
         &geometry,
         at,
         range_cells,
         |i| t[i] != CellState::Free,
         |i| {
-            out.seen += 1;
-            reveal(i, k, &mut out);
+            visit(i, true);
             if t[i] == CellState::Free {
                 let (x, y) = ((i % w) as i64, (i / w) as i64);
                 let (sx, sy) = ((x - ax).signum(), (y - ay).signum());
@@ -73,18 +99,14 @@ pub fn scan(
                     }
                     let (dx, dy) = ((nx - ax) as f64, (ny - ay) as f64);
                     let j = ny as usize * w + nx as usize;
-                    if t[j] != CellState::Free
-                        && k[j] == CellState::Unknown
-                        && dx * dx + dy * dy <= r2
-                    {
-                        reveal(j, k, &mut out);
+                    if t[j] != CellState::Free && dx * dx + dy * dy <= r2 {
+                        visit(j, false);
                     }
                 }
             }
             false
         },
     );
-    out
 }
 
 /// The expected newly scanned area `S` of Eq. (1): the number of Unknown cells of

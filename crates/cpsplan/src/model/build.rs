@@ -1,0 +1,147 @@
+//! The registered model of a whole episode: every scan's points in its estimated
+//! pose, the stations, and the accuracy against the ground truth.
+
+use rand::SeedableRng;
+use rand_chacha::ChaCha8Rng;
+use thiserror::Error;
+
+use super::accuracy::{mean_and_p95, ModelAccuracy, ScanAccuracy};
+use super::points::{ModelPoint, ModelStation};
+use super::scan::{scan_points, Sampling, ScanPose};
+use super::walls::GroundTruthWalls;
+use crate::accuracy::Instrument;
+use crate::config::Config;
+use crate::grid::OccupancyGrid;
+use crate::mission::Episode;
+use crate::sensing::seen_walls;
+
+/// Why the model of an episode cannot be built.
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum ModelError {
+    /// The model would hold more points than the limit.
+    #[error(
+        "the 3D model would hold {points} points, more than `limits.max_cloud_points` = {limit}; \
+         raise `model.vertical_step` or the limit"
+    )]
+    TooManyPoints {
+        /// Points the model would hold.
+        points: u64,
+        /// `limits.max_cloud_points`.
+        limit: usize,
+    },
+}
+
+/// The registered model of an episode, without its points (they go to the
+/// caller scan by scan).
+#[derive(Debug, Clone, PartialEq)]
+pub struct RegisteredModel {
+    /// Every scan's station.
+    pub stations: Vec<ModelStation>,
+    /// How close the points lie to the ground-truth walls.
+    pub accuracy: ModelAccuracy,
+}
+
+/// Builds the registered model of `episode`, run on `truth` under `config`:
+/// each scan's points go to `on_scan(scan, points)` in scan order. The points of
+/// a scan are expressed in the pose the CPS estimated for it
+/// ([`crate::mission::Step::estimate`], present with a Monte Carlo check; the
+/// true pose otherwise, so that only the range noise remains). Seeded by
+/// `config.seed`: the same episode gives the same points.
+pub fn build_model(
+    truth: &OccupancyGrid,
+    episode: &Episode,
+    config: &Config,
+    mut on_scan: impl FnMut(u32, &[ModelPoint]),
+) -> Result<RegisteredModel, ModelError> {
+    let m = &config.model;
+    let rows = ((m.wall_height / m.vertical_step).round() as usize).max(1);
+    let instrument = Instrument::from_config(&config.instrument);
+    let sampling = Sampling {
+        rows,
+        wall_height: m.wall_height,
+        range_sigma: match m.range_sigma_mm {
+            Some(mm) => [mm / 1000.0, 0.0],
+            None => [instrument.distance_sigma, instrument.distance_ppm],
+        },
+    };
+    let range = config.range_cells();
+    let walls: Vec<Vec<usize>> = episode
+        .steps
+        .iter()
+        .map(|s| seen_walls(truth, s.cell, range))
+        .collect();
+    let total: u64 = walls.iter().map(|w| w.len() as u64 * rows as u64).sum();
+    if total > config.limits.max_cloud_points as u64 {
+        return Err(ModelError::TooManyPoints {
+            points: total,
+            limit: config.limits.max_cloud_points,
+        });
+    }
+    let truth_walls = GroundTruthWalls::new(truth, m.wall_height);
+    let mut stations = Vec::with_capacity(episode.steps.len());
+    let mut scans = Vec::with_capacity(episode.steps.len());
+    let mut all = Vec::with_capacity(total as usize);
+    let mut points = Vec::new();
+    let mut distances = Vec::new();
+    for (k, (step, walls)) in episode.steps.iter().zip(&walls).enumerate() {
+        let scan = u32::try_from(k).unwrap_or(u32::MAX);
+        let (error, heading_error) = match &step.estimate {
+            Some(e) => (
+                [
+                    e.position.x - step.position.x,
+                    e.position.y - step.position.y,
+                    e.height_error_m,
+                ],
+                e.heading_error_rad(),
+            ),
+            None => ([0.0; 3], 0.0),
+        };
+        let pose = ScanPose {
+            truth: [step.position.x, step.position.y, m.scanner_height],
+            error,
+            heading_error,
+        };
+        let mut rng = ChaCha8Rng::seed_from_u64(
+            config.seed ^ (k as u64 + 1).wrapping_mul(0xd1b5_4a32_d192_ed03),
+        );
+        points.clear();
+        scan_points(truth, walls, &pose, &sampling, scan, &mut rng, &mut points);
+        distances.clear();
+        distances.extend(
+            points
+                .iter()
+                .map(|p| truth_walls.distance(p.position) as f32),
+        );
+        all.extend_from_slice(&distances);
+        let (mean, p95) = mean_and_p95(&mut distances);
+        let position_error = error[0].hypot(error[1]);
+        scans.push(ScanAccuracy {
+            scan,
+            points: points.len(),
+            mean_distance_m: mean,
+            p95_distance_m: p95,
+            position_error_m: position_error,
+            heading_error_arcsec: step.estimate.map_or(0.0, |e| e.heading_error_arcsec),
+            position_sigma_m: step.position_sigma_m,
+        });
+        stations.push(ModelStation {
+            scan,
+            truth: pose.truth,
+            estimate: pose.estimate(),
+            heading_error_rad: heading_error,
+            position_sigma_m: step.position_sigma_m,
+        });
+        on_scan(scan, &points);
+    }
+    let (mean, p95) = mean_and_p95(&mut all);
+    Ok(RegisteredModel {
+        stations,
+        accuracy: ModelAccuracy {
+            points: all.len(),
+            mean_distance_m: mean,
+            p95_distance_m: p95,
+            max_position_error_m: scans.iter().map(|s| s.position_error_m).fold(0.0, f64::max),
+            scans,
+        },
+    })
+}
