@@ -10,6 +10,7 @@ use cpsplan::world::builtin::BuiltinMap;
 use cpsplan::{Config, Point};
 
 use crate::commands;
+use crate::formats::cloud::LengthUnit;
 
 /// Scan planning for a cooperative multi-robot laser-scanning team (CPS-SLAM).
 #[derive(Debug, Parser)]
@@ -31,6 +32,86 @@ pub enum Command {
     Plan(PlanArgs),
     /// List the instrument presets with their accuracy and range.
     Instruments,
+    /// Project a 3D point cloud (LAS, LAZ, E57, PLY, PCD) to a ROS map_server
+    /// map (PGM + YAML) that explore and plan load.
+    Grid(GridArgs),
+}
+
+/// Options of `cpsplan grid`.
+#[derive(Debug, Args)]
+pub struct GridArgs {
+    /// The point cloud: .las, .laz, .e57, .ply or .pcd.
+    #[arg(long, value_name = "FILE")]
+    pub cloud: PathBuf,
+    /// The map to write: MAP.yaml, with its image MAP.pgm beside it.
+    #[arg(long, value_name = "MAP.yaml")]
+    pub out: PathBuf,
+    /// Cell width of the map, metres.
+    #[arg(long, value_name = "M", default_value_t = 0.1, allow_hyphen_values = true, value_parser = parse_real)]
+    pub resolution: f64,
+    /// Obstacle band by absolute height: lowest z, metres (with --z-max).
+    #[arg(long, value_name = "Z", allow_hyphen_values = true, value_parser = parse_real,
+          requires = "z_max", conflicts_with_all = ["height_above_ground", "ground"])]
+    pub z_min: Option<f64>,
+    /// Obstacle band by absolute height: highest z, metres (with --z-min).
+    #[arg(long, value_name = "Z", allow_hyphen_values = true, value_parser = parse_real, requires = "z_min")]
+    pub z_max: Option<f64>,
+    /// Obstacle band by height above the estimated ground, metres: LO,HI.
+    #[arg(long, value_name = "LO,HI", allow_hyphen_values = true, value_parser = parse_pair,
+          help = "Obstacle band by height above the estimated ground, metres: LO,HI [default: 0.2,2.0 \
+                  when no --z-min/--z-max is given]")]
+    pub height_above_ground: Option<(f64, f64)>,
+    /// How the ground is estimated: none (z = 0), plane (a plane under the
+    /// lowest points), lowest (the lowest point within --ground-window).
+    #[arg(long, value_enum, default_value = "plane")]
+    pub ground: GroundArg,
+    /// Half-width of the window of `--ground lowest`, metres.
+    #[arg(long, value_name = "M", default_value_t = 2.0, allow_hyphen_values = true, value_parser = parse_real)]
+    pub ground_window: f64,
+    /// Points in the obstacle band that make a cell occupied.
+    #[arg(long, value_name = "N", default_value_t = 1, allow_hyphen_values = true, value_parser = parse_count)]
+    pub min_points: usize,
+    /// Drop points with fewer than two others within R metres (radius outlier
+    /// removal).
+    #[arg(long, value_name = "R", allow_hyphen_values = true, value_parser = parse_real)]
+    pub outlier_radius: Option<f64>,
+    /// Move the cloud into the map frame first: shift TX,TY metres after
+    /// rotating by YAW about the cloud's origin (radians; `90deg` for degrees).
+    #[arg(long, value_name = "TX,TY,YAW", allow_hyphen_values = true, value_parser = parse_transform)]
+    pub transform: Option<(f64, f64, f64)>,
+    /// Free space along the beams from the scan origins (E57 poses, a PCD's
+    /// VIEWPOINT, or --origin) instead of wherever the ground was seen.
+    #[arg(long)]
+    pub free_from_scans: bool,
+    /// The scanner's centre X,Y,Z in the cloud's frame, for --free-from-scans
+    /// (overrides the file's origins).
+    #[arg(long, value_name = "X,Y,Z", allow_hyphen_values = true, value_parser = parse_triple)]
+    pub origin: Option<[f64; 3]>,
+    /// Length unit of the file's coordinates, overriding what the file says:
+    /// m, ft or us-ft.
+    #[arg(long, value_name = "UNIT", value_parser = parse_unit)]
+    pub units: Option<LengthUnit>,
+    /// Skip points whose coordinates are not finite numbers instead of refusing
+    /// the file.
+    #[arg(long)]
+    pub drop_invalid: bool,
+    /// TOML file with the limits (`[limits]`, see docs/USER-GUIDE.md).
+    #[arg(long, value_name = "FILE")]
+    pub config: Option<PathBuf>,
+    /// Print nothing but errors and warnings.
+    #[arg(long, short)]
+    pub quiet: bool,
+}
+
+/// `--ground` as a command-line value.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum GroundArg {
+    /// The ground is z = 0.
+    None,
+    /// A plane fitted under the lowest points.
+    Plane,
+    /// The lowest point within --ground-window of each cell.
+    Lowest,
 }
 
 /// Options of `cpsplan plan`.
@@ -154,6 +235,20 @@ pub struct ExploreArgs {
     /// directory (repeat the flag or give a comma list: 2,5,9).
     #[arg(long, value_name = "N", value_delimiter = ',', value_parser = parse_scan_number, allow_hyphen_values = true)]
     pub step_figure: Vec<usize>,
+    /// Write the registered 3D model: every scan's points in the pose the CPS
+    /// estimated (.las, .laz or .ply), with its stations beside it as
+    /// NAME-stations.ply.
+    #[arg(long, value_name = "FILE")]
+    pub cloud_out: Option<PathBuf>,
+    /// Height of the walls of the 3D model, metres.
+    #[arg(long, value_name = "M", allow_hyphen_values = true, value_parser = parse_real,
+          help = with_default("Height of the walls of the 3D model, metres", defaults().model.wall_height))]
+    pub wall_height: Option<f64>,
+    /// Vertical spacing of the 3D model's points on a wall, metres.
+    #[arg(long, value_name = "M", allow_hyphen_values = true, value_parser = parse_real,
+          help = with_default("Vertical spacing of the 3D model's points on a wall, metres",
+                              defaults().model.vertical_step))]
+    pub vertical_step: Option<f64>,
     /// Output directory.
     #[arg(long, value_name = "DIR", default_value = "out")]
     pub out: PathBuf,
@@ -234,6 +329,59 @@ fn parse_point(s: &str) -> Result<Point, String> {
             .ok_or_else(|| format!("`{t}` is not a number in `{s}`"))
     };
     Ok(Point::new(num(x)?, num(y)?))
+}
+
+/// Numbers separated by commas, each finite.
+fn parse_list(s: &str, n: usize, what: &str) -> Result<Vec<f64>, String> {
+    let parts: Vec<&str> = s.split(',').map(str::trim).collect();
+    if parts.len() != n {
+        return Err(format!("expected {what}, got `{s}`"));
+    }
+    parts
+        .iter()
+        .map(|t| {
+            t.parse::<f64>()
+                .ok()
+                .filter(|v| v.is_finite())
+                .ok_or_else(|| format!("`{t}` is not a number in `{s}`"))
+        })
+        .collect()
+}
+
+fn parse_pair(s: &str) -> Result<(f64, f64), String> {
+    let v = parse_list(s, 2, "LO,HI in metres")?;
+    Ok((v[0], v[1]))
+}
+
+fn parse_triple(s: &str) -> Result<[f64; 3], String> {
+    let v = parse_list(s, 3, "X,Y,Z in metres")?;
+    Ok([v[0], v[1], v[2]])
+}
+
+/// TX,TY,YAW: metres, metres, radians (or degrees with a `deg` suffix).
+fn parse_transform(s: &str) -> Result<(f64, f64, f64), String> {
+    let parts: Vec<&str> = s.split(',').map(str::trim).collect();
+    let [tx, ty, yaw] = parts.as_slice() else {
+        return Err(format!("expected TX,TY,YAW (metres, metres, radians), got `{s}`"));
+    };
+    let num = |t: &str| {
+        t.parse::<f64>()
+            .ok()
+            .filter(|v| v.is_finite())
+            .ok_or_else(|| format!("`{t}` is not a number in `{s}`"))
+    };
+    let yaw = match yaw
+        .strip_suffix("deg")
+        .or_else(|| yaw.strip_suffix('\u{b0}'))
+    {
+        Some(d) => num(d.trim())?.to_radians(),
+        None => num(yaw)?,
+    };
+    Ok((num(tx)?, num(ty)?, yaw))
+}
+
+fn parse_unit(s: &str) -> Result<LengthUnit, String> {
+    LengthUnit::parse(s.trim()).ok_or_else(|| format!("unknown unit `{s}` (one of: m, ft, us-ft)"))
 }
 
 fn parse_instrument(s: &str) -> Result<InstrumentModel, String> {
@@ -348,6 +496,7 @@ pub fn run() -> Result<()> {
         Command::Maps(args) => commands::maps::run(&args),
         Command::Plan(args) => commands::plan::run(&args),
         Command::Instruments => commands::instruments::run(),
+        Command::Grid(args) => commands::grid::run(&args),
     }
 }
 

@@ -1,5 +1,6 @@
 //! The report of an explored episode: `summary.json`, `episode.json`, `metrics.csv`,
-//! `map.png` and the final knowledge map as ROS map_server PGM+YAML. The report
+//! `model.csv` (the registered 3D model's accuracy per scan), `map.png` and the
+//! final knowledge map as ROS map_server PGM+YAML. The report
 //! is written whole into a temporary directory beside `--out` ([`ReportDir`])
 //! and moved into place at the end: a failed run leaves nothing behind.
 
@@ -8,6 +9,7 @@ use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result};
 use cpsplan::mission::{Episode, StopReason, Summary};
+use cpsplan::model::{ModelAccuracy, RegisteredModel};
 use cpsplan::world::builtin::BuiltinMap;
 use cpsplan::{Config, OccupancyGrid, Point};
 use serde::Serialize;
@@ -61,8 +63,39 @@ pub struct SummaryRecord<'a> {
     pub start: Point,
     /// Planning resolution, metres.
     pub resolution: f64,
+    /// The registered 3D model's accuracy against the ground-truth walls.
+    pub model: ModelSummary,
     /// The configuration used.
     pub config: &'a Config,
+}
+
+/// The registered 3D model in `summary.json`.
+#[derive(Debug, Serialize)]
+pub struct ModelSummary {
+    /// Points of the model.
+    pub points: usize,
+    /// Mean distance of the points to the ground-truth walls, metres.
+    pub mean_distance_m: f64,
+    /// 95th percentile of that distance, metres.
+    pub p95_distance_m: f64,
+    /// Largest horizontal error of a pose a scan was registered in, metres.
+    pub max_position_error_m: f64,
+    /// The poses the scans were registered in: `estimated` (one Monte Carlo
+    /// realisation of the CPS chain) or `true` (no Monte Carlo: range noise only).
+    pub poses: &'static str,
+}
+
+impl ModelSummary {
+    /// The summary of `accuracy`; `estimated` when the episode carried estimates.
+    pub fn new(accuracy: &ModelAccuracy, estimated: bool) -> Self {
+        Self {
+            points: accuracy.points,
+            mean_distance_m: accuracy.mean_distance_m,
+            p95_distance_m: accuracy.p95_distance_m,
+            max_position_error_m: accuracy.max_position_error_m,
+            poses: if estimated { "estimated" } else { "true" },
+        }
+    }
 }
 
 /// Map description inside `episode.json`.
@@ -190,11 +223,21 @@ pub fn metrics_csv(episode: &Episode) -> Result<Vec<u8>> {
     w.into_inner().map_err(|e| anyhow::anyhow!("{e}"))
 }
 
+/// The model's accuracy as CSV text, one row per scan.
+pub fn model_csv(accuracy: &ModelAccuracy) -> Result<Vec<u8>> {
+    let mut w = csv::Writer::from_writer(Vec::new());
+    for s in &accuracy.scans {
+        w.serialize(s)?;
+    }
+    w.into_inner().map_err(|e| anyhow::anyhow!("{e}"))
+}
+
 /// Every file name a report may hold (besides `step-NNN.png`).
-pub const REPORT_FILES: [&str; 9] = [
+pub const REPORT_FILES: [&str; 10] = [
     "summary.json",
     "episode.json",
     "metrics.csv",
+    "model.csv",
     "map.png",
     "map-large.png",
     "error.png",
@@ -363,6 +406,7 @@ pub fn write_episode_outputs(
     truth: &OccupancyGrid,
     source: &MapSource,
     episode: &Episode,
+    model: &RegisteredModel,
     wall_ms: f64,
 ) -> Result<()> {
     std::fs::create_dir_all(dir)
@@ -375,6 +419,10 @@ pub fn write_episode_outputs(
         wall_ms: (wall_ms * 1000.0).round() / 1000.0,
         start: episode.start,
         resolution: g.resolution,
+        model: ModelSummary::new(
+            &model.accuracy,
+            episode.steps.iter().any(|s| s.estimate.is_some()),
+        ),
         config: &episode.config,
     };
     let record = EpisodeRecord {
@@ -400,6 +448,7 @@ pub fn write_episode_outputs(
         &serde_json::to_vec_pretty(&record)?,
     )?;
     write_atomic(&dir.join("metrics.csv"), &metrics_csv(episode)?)?;
+    write_atomic(&dir.join("model.csv"), &model_csv(&model.accuracy)?)?;
     write_atomic(&dir.join("map.png"), &png)?;
     if let Some(large) = &large {
         write_atomic(&dir.join("map-large.png"), large)?;

@@ -4,6 +4,8 @@
 
 use std::path::{Path, PathBuf};
 
+#[path = "../../../fuzz/src/cloud_grid.rs"]
+mod cloud_grid;
 #[path = "../../../fuzz/src/config_parse.rs"]
 mod config_parse;
 #[path = "../../../fuzz/src/map_load.rs"]
@@ -58,4 +60,9 @@ fn config_parse_inputs_replay_without_panics() {
 #[test]
 fn plan_inputs_replay_without_panics() {
     assert!(replay("plan_inputs", plan_inputs::run) >= 5);
+}
+
+#[test]
+fn cloud_grid_inputs_replay_without_panics() {
+    assert!(replay("cloud_grid", cloud_grid::run) >= 5);
 }

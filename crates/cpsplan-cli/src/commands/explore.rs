@@ -1,10 +1,12 @@
 //! `cpsplan explore`: one simulated episode on a map, and its report.
 
+use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use anyhow::{anyhow, bail, Result};
+use anyhow::{anyhow, bail, Context, Result};
 use cpsplan::config::Scoring;
 use cpsplan::mission::{Summary, START_REGION_SHARE};
+use cpsplan::model::{build_model, ModelPoint, RegisteredModel};
 use cpsplan::world::builtin::BuiltinMap;
 use cpsplan::world::{default_start, resample_for};
 use cpsplan::{run_episode_with, Config, OccupancyGrid, Point, StopReason};
@@ -13,7 +15,10 @@ use indicatif::{ProgressBar, ProgressStyle};
 use super::{load_planning_grid, read_config, validate};
 use crate::cli::{ExploreArgs, ScoringArg};
 use crate::render::{render_step, StepView};
-use crate::report::{write_atomic, write_episode_outputs, MapSource, ReportDir};
+use crate::formats::cloud::{encode_las, encode_ply, encode_stations_ply};
+use crate::report::{
+    write_atomic, write_episode_outputs, write_temp, MapSource, ReportDir, TempFile,
+};
 
 /// The file name of the figure of the step after scan `n`: `step-007.png`.
 pub fn step_figure_name(n: usize) -> String {
@@ -62,6 +67,12 @@ pub fn build_config(args: &ExploreArgs) -> Result<Config> {
     if let Some(s) = args.seed {
         config.seed = s;
     }
+    if let Some(h) = args.wall_height {
+        config.model.wall_height = h;
+    }
+    if let Some(v) = args.vertical_step {
+        config.model.vertical_step = v;
+    }
     validate(
         &config,
         &[
@@ -76,6 +87,12 @@ pub fn build_config(args: &ExploreArgs) -> Result<Config> {
                 "accuracy.monte_carlo_runs",
                 "--monte-carlo",
                 args.monte_carlo.is_some(),
+            ),
+            ("model.wall_height", "--wall-height", args.wall_height.is_some()),
+            (
+                "model.vertical_step",
+                "--vertical-step",
+                args.vertical_step.is_some(),
             ),
         ],
     )?;
@@ -105,6 +122,7 @@ fn load_truth(
 /// Runs the episode and writes its report.
 pub fn run(args: &ExploreArgs) -> Result<()> {
     let config = build_config(args)?;
+    let cloud_format = args.cloud_out.as_deref().map(ModelFormat::of).transpose()?;
     // Refuses an unusable --out before the run, not after it.
     let report = ReportDir::create(&args.out)?;
     let (truth, source, builtin_start) = load_truth(args, &config)?;
@@ -148,11 +166,27 @@ pub fn run(args: &ExploreArgs) -> Result<()> {
     if let Some((scan, e)) = figure_error {
         bail!("cannot draw the figure of step {scan}: {e}");
     }
-    write_episode_outputs(report.path(), &truth, &source, &episode, wall_ms)?;
+    let mut points = Vec::new();
+    let model = build_model(&truth, &episode, &config, |_, p| {
+        if cloud_format.is_some() {
+            points.extend_from_slice(p);
+        }
+    })?;
+    // The cloud and its stations under temporary names until the report is in.
+    let cloud = match (&args.cloud_out, cloud_format) {
+        (Some(path), Some(format)) => Some(write_model_cloud(path, format, &points, &model)?),
+        _ => None,
+    };
+    drop(points);
+    write_episode_outputs(report.path(), &truth, &source, &episode, &model, wall_ms)?;
     for (scan, png) in &figures {
         write_atomic(&report.path().join(step_figure_name(*scan)), png)?;
     }
     report.commit()?;
+    if let (Some(path), Some((cloud, stations))) = (&args.cloud_out, cloud) {
+        cloud.persist(path)?;
+        stations.persist(&stations_path(path))?;
+    }
     let scans = episode.steps.len();
     let mut missing: Vec<usize> = args
         .step_figure
@@ -193,12 +227,91 @@ pub fn run(args: &ExploreArgs) -> Result<()> {
                 s.instrument
             );
         }
+        let a = &model.accuracy;
+        println!(
+            "3D model: {} points, {:.1} mm mean and {:.1} mm 95th-percentile distance to the walls \
+             (registered in the {} poses)",
+            a.points,
+            a.mean_distance_m * 1e3,
+            a.p95_distance_m * 1e3,
+            if episode.steps.iter().any(|s| s.estimate.is_some()) {
+                "estimated"
+            } else {
+                "true"
+            }
+        );
         println!("report written to {}", args.out.display());
+        if let Some(path) = &args.cloud_out {
+            println!(
+                "3D model written to {} (stations: {})",
+                path.display(),
+                stations_path(path).display()
+            );
+        }
     }
     if let Some(w) = coverage_warning(&episode.summary) {
         eprintln!("warning: {w}");
     }
     Ok(())
+}
+
+/// The file formats of `--cloud-out`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ModelFormat {
+    /// LAS 1.2.
+    Las,
+    /// LAS compressed (LAZ).
+    Laz,
+    /// Binary PLY.
+    Ply,
+}
+
+impl ModelFormat {
+    /// The format named by `path`'s extension.
+    pub fn of(path: &Path) -> Result<Self> {
+        let ext = path
+            .extension()
+            .map(|e| e.to_string_lossy().to_ascii_lowercase())
+            .unwrap_or_default();
+        Ok(match ext.as_str() {
+            "las" => ModelFormat::Las,
+            "laz" => ModelFormat::Laz,
+            "ply" => ModelFormat::Ply,
+            _ => bail!(
+                "--cloud-out {}: the file name must end in .las, .laz or .ply",
+                path.display()
+            ),
+        })
+    }
+}
+
+/// Where the stations of the cloud at `path` go: `NAME-stations.ply` beside it.
+pub fn stations_path(path: &Path) -> PathBuf {
+    let stem = path
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    path.with_file_name(format!("{stem}-stations.ply"))
+}
+
+/// Encodes the model's points and stations into temporary files beside `path`.
+fn write_model_cloud(
+    path: &Path,
+    format: ModelFormat,
+    points: &[ModelPoint],
+    model: &RegisteredModel,
+) -> Result<(TempFile, TempFile)> {
+    let bytes = match format {
+        ModelFormat::Las => encode_las(points, false),
+        ModelFormat::Laz => encode_las(points, true),
+        ModelFormat::Ply => encode_ply(points),
+    }
+    .with_context(|| format!("--cloud-out {}", path.display()))?;
+    let cloud = write_temp(path, &bytes)?;
+    let stations = encode_stations_ply(&model.stations)
+        .with_context(|| format!("--cloud-out {}", path.display()))?;
+    let stations = write_temp(&stations_path(path), &stations)?;
+    Ok((cloud, stations))
 }
 
 /// The warning for an episode whose scans cover less than 90 % of the free

@@ -2,6 +2,7 @@
 //! [`crate::cli`].
 
 pub mod explore;
+pub mod grid;
 pub mod instruments;
 pub mod maps;
 pub mod plan;

@@ -674,6 +674,16 @@ pub fn load_any_with(
 /// Both files are written under temporary names in the target directory and then
 /// renamed, so a failure leaves no half-written file behind.
 pub fn save_map(grid: &OccupancyGrid, yaml_path: &Path) -> Result<(), FormatError> {
+    save_map_with_notes(grid, yaml_path, &[])
+}
+
+/// [`save_map`] with `notes` as comment lines at the top of the YAML (where the
+/// map came from, units converted).
+pub fn save_map_with_notes(
+    grid: &OccupancyGrid,
+    yaml_path: &Path,
+    notes: &[String],
+) -> Result<(), FormatError> {
     let g = grid.geometry();
     if g.is_empty() {
         return Err(FormatError::bad(yaml_path, "grid", "the grid has no cells"));
@@ -717,6 +727,11 @@ pub fn save_map(grid: &OccupancyGrid, yaml_path: &Path) -> Result<(), FormatErro
     // The YAML, by hand. `{:?}` of an f64 is the shortest text that parses back to
     // the same value, and always reads as a float.
     let mut yaml = String::new();
+    for note in notes {
+        for line in note.lines() {
+            let _ = writeln!(yaml, "# {line}");
+        }
+    }
     let _ = writeln!(yaml, "image: {}", yaml_string(&image_name));
     let _ = writeln!(yaml, "resolution: {:?}", g.resolution);
     let _ = writeln!(

@@ -1,0 +1,221 @@
+//! `cpsplan grid`: a 3D point cloud projected to a ROS map_server map.
+
+use std::time::Instant;
+
+use anyhow::{anyhow, bail, Result};
+use cpsplan::config::approx;
+use cpsplan::world::projection::{
+    project, BeamOrigin, GroundModel, HeightBand, PlanarTransform, Projection, ProjectionParams,
+};
+use indicatif::{ProgressBar, ProgressStyle};
+
+use super::read_config;
+use crate::cli::{GridArgs, GroundArg};
+use crate::formats::cloud::{read_cloud, Cloud, CloudReadOptions};
+use crate::formats::rosmap::save_map_with_notes;
+
+/// Clouds of at least this many points get a progress bar.
+const PROGRESS_POINTS: u64 = 1_000_000;
+
+/// The projection's parameters from the flags.
+pub fn params(args: &GridArgs) -> ProjectionParams {
+    let band = match (args.z_min, args.z_max, args.height_above_ground) {
+        (Some(min), Some(max), _) => HeightBand::Absolute { min, max },
+        (_, _, Some((low, high))) => HeightBand::AboveGround { low, high },
+        _ => ProjectionParams::default().band,
+    };
+    let ground = match args.ground {
+        GroundArg::None => GroundModel::None,
+        GroundArg::Plane => GroundModel::Plane,
+        GroundArg::Lowest => GroundModel::Lowest {
+            window: args.ground_window,
+        },
+    };
+    let transform = args
+        .transform
+        .map(|(tx, ty, yaw)| PlanarTransform { tx, ty, yaw })
+        .unwrap_or_default();
+    ProjectionParams {
+        resolution: args.resolution,
+        band,
+        ground,
+        min_points: u32::try_from(args.min_points).unwrap_or(u32::MAX),
+        outlier_radius: args.outlier_radius,
+        transform,
+        free_from_scans: args.free_from_scans,
+    }
+}
+
+/// The scans with known origins: `--origin` for every scan, else the file's.
+fn origins(cloud: &Cloud, origin: Option<[f64; 3]>) -> Vec<BeamOrigin> {
+    cloud
+        .scans
+        .iter()
+        .filter_map(|s| {
+            origin.or(s.origin).map(|o| BeamOrigin {
+                points: s.points.clone(),
+                origin: o,
+            })
+        })
+        .collect()
+}
+
+fn bar(quiet: bool, total: u64, what: &str) -> ProgressBar {
+    if quiet || total < PROGRESS_POINTS {
+        return ProgressBar::hidden();
+    }
+    let bar = ProgressBar::new(total);
+    if let Ok(style) =
+        ProgressStyle::with_template("{spinner} {msg} {bar:30} {human_pos}/{human_len} points {eta}")
+    {
+        bar.set_style(style);
+    }
+    bar.set_message(what.to_string());
+    bar
+}
+
+/// Reads the cloud, projects it and writes the map.
+pub fn run(args: &GridArgs) -> Result<()> {
+    let config = read_config(args.config.as_deref())?.config;
+    config.validate()?;
+    let params = params(args);
+    cpsplan::world::projection::check_params(&params)?;
+    if args.out.extension().is_none_or(|e| e != "yaml" && e != "yml") {
+        bail!(
+            "--out {}: the map's file name must end in .yaml (its image goes beside it as .pgm)",
+            args.out.display()
+        );
+    }
+    let t0 = Instant::now();
+    let options = CloudReadOptions {
+        max_points: config.limits.max_cloud_points as u64,
+        drop_invalid: args.drop_invalid,
+        units: args.units,
+        ..CloudReadOptions::default()
+    };
+    let reading = bar(args.quiet, 0, "reading");
+    let cloud = read_cloud(&args.cloud, &options, &mut |done, total| {
+        if total >= PROGRESS_POINTS && !args.quiet {
+            if reading.is_hidden() {
+                reading.set_draw_target(indicatif::ProgressDrawTarget::stderr());
+                if let Ok(style) = ProgressStyle::with_template(
+                    "{spinner} reading {bar:30} {human_pos}/{human_len} points {eta}",
+                ) {
+                    reading.set_style(style);
+                }
+            }
+            reading.set_length(total);
+            reading.set_position(done);
+        }
+    })?;
+    reading.finish_and_clear();
+    let read_s = t0.elapsed().as_secs_f64();
+    let origins = origins(&cloud, args.origin);
+    let projecting = bar(args.quiet, cloud.points.len() as u64, "projecting");
+    let projection = project(&cloud.points, &origins, &params, &config, |done, total| {
+        projecting.set_length(total);
+        projecting.set_position(done);
+    })
+    .map_err(|e| anyhow!("{}: {e}", args.cloud.display()))?;
+    projecting.finish_and_clear();
+    let notes = yaml_notes(args, &cloud, &projection, &params);
+    save_map_with_notes(&projection.grid, &args.out, &notes)?;
+    if !args.quiet {
+        print_summary(args, &cloud, &projection, read_s, t0.elapsed().as_secs_f64());
+    }
+    Ok(())
+}
+
+/// The comment lines of the map's YAML: where it came from and how.
+fn yaml_notes(
+    args: &GridArgs,
+    cloud: &Cloud,
+    p: &Projection,
+    params: &ProjectionParams,
+) -> Vec<String> {
+    let mut notes = vec![format!(
+        "cpsplan grid from {} ({}, {} points); map coordinates are the cloud's, in metres",
+        args.cloud.display(),
+        cloud.format.name(),
+        cloud.points_in_file
+    )];
+    notes.extend(cloud.notes.iter().cloned());
+    let band = match params.band {
+        HeightBand::Absolute { min, max } => format!("obstacles from z = {min} m to {max} m"),
+        HeightBand::AboveGround { low, high } => {
+            format!("obstacles from {low} m to {high} m above the ground")
+        }
+    };
+    notes.push(format!(
+        "{band}; ground: {}; min points {}",
+        p.ground.describe(),
+        params.min_points
+    ));
+    let t = params.transform;
+    if t != PlanarTransform::default() {
+        notes.push(format!(
+            "cloud moved by --transform {},{},{} (yaw in radians) before projecting",
+            t.tx, t.ty, t.yaw
+        ));
+    }
+    notes
+}
+
+fn print_summary(args: &GridArgs, cloud: &Cloud, p: &Projection, read_s: f64, total_s: f64) {
+    let s = &p.stats;
+    let g = p.grid.geometry();
+    println!(
+        "{}: {} points read ({}{}), {} kept{}",
+        args.cloud.display(),
+        cloud.points_in_file,
+        cloud.format.name(),
+        if cloud.scans.len() > 1 {
+            format!(", {} scans", cloud.scans.len())
+        } else {
+            String::new()
+        },
+        s.points_kept,
+        match (cloud.points_dropped, s.outliers) {
+            (0, 0) => String::new(),
+            (d, 0) => format!(" ({d} invalid dropped)"),
+            (0, o) => format!(" ({o} outliers dropped)"),
+            (d, o) => format!(" ({d} invalid and {o} outliers dropped)"),
+        }
+    );
+    for note in &cloud.notes {
+        println!("note: {note}");
+    }
+    println!(
+        "points: {} obstacle, {} ground, {} above the band{}",
+        s.obstacle_points,
+        s.ground_points,
+        s.above_points,
+        if s.beams > 0 {
+            format!("; {} beams traced", s.beams)
+        } else {
+            String::new()
+        }
+    );
+    println!("ground: {}", p.ground.describe());
+    println!(
+        "map: {} × {} cells of {} m ({} m × {} m), origin ({:.3}, {:.3}): {} free, {} occupied, {} unknown",
+        g.width,
+        g.height,
+        g.resolution,
+        approx(g.width as f64 * g.resolution),
+        approx(g.height as f64 * g.resolution),
+        g.origin.x,
+        g.origin.y,
+        s.free_cells,
+        s.occupied_cells,
+        s.unknown_cells
+    );
+    let rate = cloud.points_in_file as f64 / total_s.max(1e-9);
+    println!(
+        "written to {} in {:.2} s (reading {:.2} s, {} points/s overall)",
+        args.out.display(),
+        total_s,
+        read_s,
+        approx(rate)
+    );
+}
