@@ -15,6 +15,7 @@ use las::{PointData, PointDataBuilder, Reader};
 
 use super::collect::{check_claim, Collector};
 use super::las_units::FileUnits;
+use super::laz_check::{Patched, Table};
 use super::{
     laz_check, one_line, Cloud, CloudFormat, CloudProblem, CloudReadOptions, LengthUnit, Source,
 };
@@ -35,7 +36,7 @@ pub(crate) fn read<S: Source>(
 ) -> Result<Cloud, CloudProblem> {
     let len = source.len();
     let mut r = source.open().map_err(io)?;
-    let raw = las::raw::Header::read_from(&mut r).map_err(|e| malformed(expected, e))?;
+    let raw = las::raw::Header::read_from(&mut r).map_err(|e| header_problem(expected, e))?;
     let format = if raw.point_data_record_format & 0x80 != 0 {
         CloudFormat::Laz
     } else {
@@ -43,37 +44,60 @@ pub(crate) fn read<S: Source>(
     };
     let points = check_raw(&mut r, &raw, format, len, options)?;
     r.seek(SeekFrom::Start(0)).map_err(io)?;
-    let header = las::Header::new(&mut r).map_err(|e| malformed(format, e))?;
+    let header = las::Header::new(&mut r).map_err(|e| header_problem(format, e))?;
     if header.number_of_points() != points {
         return Err(malformed(format, "inconsistent point counts"));
     }
     check_transforms(&header, format)?;
+    let data_start = u64::from(raw.offset_to_point_data);
+    let mut patch = None;
     if format == CloudFormat::Laz {
         let vlr = header.laz_vlr().map_err(|e| malformed(format, e))?;
-        laz_check::check(
+        let compressor = header
+            .vlrs()
+            .iter()
+            .find(|v| las::laz::is_laszip_vlr(v))
+            .and_then(|v| v.data.get(..2))
+            .map_or(0, |b| u16::from_le_bytes([b[0], b[1]]));
+        let table = laz_check::check(
             &mut r,
             &vlr,
+            compressor,
             points,
             raw.point_data_record_length,
-            u64::from(raw.offset_to_point_data),
+            data_start,
             len,
         )?;
+        if table == Table::Missing {
+            patch = Some(data_start);
+        }
     }
     let (factors, notes) = conversion(FileUnits::of(&header), options.units);
     drop(r);
+    let open = || open_reader(source, patch);
 
     let mut collector = Collector::new(options, progress, points)?;
     for note in notes {
         collector.note(note);
     }
-    let mut reader = Reader::new(source.open().map_err(io)?).map_err(|e| malformed(format, e))?;
+    let mut reader = open().map_err(|e| {
+        if eof(&e) {
+            truncated(points, 0)
+        } else {
+            malformed(format, e)
+        }
+    })?;
     let mut batch = PointDataBuilder::new().for_header(reader.header()).build();
     while collector.seen() < points {
         let before = collector.seen();
         let n = match reader.fill_points(BATCH.min(points - before), &mut batch) {
             Ok(0) => return Err(truncated(points, before)),
             Ok(n) => n,
-            Err(e) => return Err(decode_failure(source, format, points, before, e)),
+            Err(e) if eof(&e) => {
+                let found = decodable(&open, before).unwrap_or(before);
+                return Err(truncated(points, found));
+            }
+            Err(e) => return Err(malformed(format, e)),
         };
         let xs = batch.x();
         let ys = batch.y();
@@ -192,29 +216,40 @@ fn conversion(file: FileUnits, given: Option<LengthUnit>) -> ([f64; 2], Vec<Stri
     ([horizontal.factor(), vertical.factor()], notes)
 }
 
-/// Why a batch failed to decode: truncation (with the exact number of whole
-/// points the file holds, counted in a second pass) or damage.
-fn decode_failure<S: Source>(
-    source: &S,
-    format: CloudFormat,
-    points: u64,
-    before: u64,
-    e: las::Error,
-) -> CloudProblem {
-    let eof = match &e {
-        las::Error::Io(io) => io.kind() == std::io::ErrorKind::UnexpectedEof,
-        _ => false,
-    };
-    if !eof {
-        return malformed(format, e);
+/// A reader of `source`'s points; for a LAZ file whose chunk table is
+/// missing (`patch` holds where its point data starts), through a view that
+/// supplies an empty one.
+fn open_reader<S: Source>(source: &S, patch: Option<u64>) -> Result<Reader, las::Error> {
+    let inner = source.open()?;
+    match patch {
+        Some(data_start) => Reader::new(Patched::new(inner, data_start, source.len())),
+        None => Reader::new(inner),
     }
-    truncated(points, decodable(source, before).unwrap_or(before))
 }
 
-/// How many points decode from the start of `source`, knowing that at least
-/// `known` do.
-fn decodable<S: Source>(source: &S, known: u64) -> Option<u64> {
-    let mut reader = Reader::new(source.open().ok()?).ok()?;
+/// A header that could not be read: cut short, or damaged.
+fn header_problem(format: CloudFormat, e: las::Error) -> CloudProblem {
+    if eof(&e) {
+        malformed(format, "the file ends inside its header")
+    } else {
+        malformed(format, e)
+    }
+}
+
+/// Whether `e` is the data running out.
+fn eof(e: &las::Error) -> bool {
+    let io = match e {
+        las::Error::Io(io) => io,
+        las::Error::LasZipError(laz::LasZipError::IoError(io)) => io,
+        _ => return false,
+    };
+    io.kind() == std::io::ErrorKind::UnexpectedEof
+}
+
+/// How many points decode from a reader `open` gives, knowing that at least
+/// `known` do: the whole points of a truncated file.
+fn decodable(open: &dyn Fn() -> Result<Reader, las::Error>, known: u64) -> Option<u64> {
+    let mut reader = open().ok()?;
     let mut batch: PointData = PointDataBuilder::new().for_header(reader.header()).build();
     let mut done = 0;
     while done < known {
@@ -222,7 +257,7 @@ fn decodable<S: Source>(source: &S, known: u64) -> Option<u64> {
             .fill_points(BATCH.min(known - done), &mut batch)
             .ok()?;
     }
-    while reader.fill_points(1, &mut batch).ok()? == 1 {
+    while let Ok(1) = reader.fill_points(1, &mut batch) {
         done += 1;
     }
     Some(done)

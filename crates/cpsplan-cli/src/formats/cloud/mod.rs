@@ -37,8 +37,6 @@ use std::ops::Range;
 use std::path::Path;
 use std::sync::Arc;
 
-use cpsplan::config::number;
-
 pub use write::{encode_las, encode_ply, encode_stations_ply, scan_colour};
 
 /// A point cloud read from a file, coordinates in metres.
@@ -205,7 +203,7 @@ pub enum CloudProblem {
     #[error("not a regular file")]
     NotAFile,
     /// The file is larger than `limits.max_cloud_bytes`.
-    #[error("file of {} bytes, more than `limits.max_cloud_bytes` = {}", number(*size as f64), number(*limit as f64))]
+    #[error("file of {size} bytes, more than `limits.max_cloud_bytes` = {limit}")]
     FileTooLarge {
         /// Its size, bytes.
         size: u64,
@@ -216,7 +214,7 @@ pub enum CloudProblem {
     #[error("unknown point-cloud format (the name must end in .las, .laz, .e57, .ply or .pcd)")]
     UnknownFormat,
     /// The file holds more points than `limits.max_cloud_points`.
-    #[error("holds {} points, more than `limits.max_cloud_points` = {}", number(*points as f64), number(*limit as f64))]
+    #[error("holds {points} points, more than `limits.max_cloud_points` = {limit}")]
     TooManyPoints {
         /// Points the file holds or claims.
         points: u64,

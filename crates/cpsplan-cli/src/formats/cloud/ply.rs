@@ -8,7 +8,7 @@
 
 use std::io::{BufRead, BufReader};
 
-use ply_rs_bw::parser::{Parser, Reader};
+use ply_rs_bw::parser::{ParseError, Parser, Reader};
 use ply_rs_bw::ply::{ElementDef, Encoding, PropertyAccess, PropertyAccessResult, PropertyType};
 
 use super::collect::{check_claim, Collector};
@@ -109,6 +109,7 @@ pub(crate) fn read<S: Source>(
 
     let mut collector = Collector::new(options, progress, promised)?;
     let parser = Parser::<Vertex>::new();
+    let axes = axis_tokens(vertex);
     let mut line = String::new();
     for i in 0..promised {
         let truncated = CloudProblem::Truncated { promised, found: i };
@@ -117,7 +118,7 @@ pub(crate) fn read<S: Source>(
                 line.clear();
                 match reader.get_mut().read_line(&mut line) {
                     Ok(0) => return Err(truncated),
-                    Ok(_) => parser.read_ascii_element(&line, vertex),
+                    Ok(_) => read_ascii_vertex(&parser, &line, vertex, axes),
                     Err(e) => return Err(malformed(e)),
                 }
             }
@@ -134,6 +135,69 @@ pub(crate) fn read<S: Source>(
     }
     collector.end_scan(None);
     collector.finish(CloudFormat::Ply)
+}
+
+/// The token positions of `x`, `y` and `z` in an ascii vertex line, when
+/// every property up to them is a scalar (one token each).
+fn axis_tokens(vertex: &ElementDef) -> Option<[usize; 3]> {
+    let mut axes = [None; 3];
+    for (i, (name, p)) in vertex.properties.iter().enumerate() {
+        if axes.iter().all(Option::is_some) {
+            break;
+        }
+        if !matches!(p.data_type, PropertyType::Scalar(_)) {
+            return None;
+        }
+        match name.as_str() {
+            "x" => axes[0] = Some(i),
+            "y" => axes[1] = Some(i),
+            "z" => axes[2] = Some(i),
+            _ => {}
+        }
+    }
+    Some([axes[0]?, axes[1]?, axes[2]?])
+}
+
+/// One ascii vertex. The crate's grammar takes only digits, signs, points
+/// and exponents, while writers print non-finite values as `nan`, `inf` and
+/// the like: a line the crate refuses is read again with those tokens as 0,
+/// and the coordinates they stood for set to their values.
+fn read_ascii_vertex(
+    parser: &Parser<Vertex>,
+    line: &str,
+    vertex: &ElementDef,
+    axes: Option<[usize; 3]>,
+) -> Result<Vertex, ParseError> {
+    let refused = match parser.read_ascii_element(line, vertex) {
+        Ok(v) => return Ok(v),
+        Err(e) => e,
+    };
+    let Some(axes) = axes else {
+        return Err(refused);
+    };
+    let tokens: Vec<&str> = line.split_whitespace().collect();
+    let odd: Vec<(usize, f64)> = tokens
+        .iter()
+        .enumerate()
+        .filter_map(|(i, t)| Some((i, t.parse::<f64>().ok().filter(|v| !v.is_finite())?)))
+        .collect();
+    if odd.is_empty() {
+        return Err(refused);
+    }
+    let cleaned: Vec<&str> = tokens
+        .iter()
+        .enumerate()
+        .map(|(i, t)| if odd.iter().any(|o| o.0 == i) { "0" } else { t })
+        .collect();
+    let Ok(mut v) = parser.read_ascii_element(&cleaned.join(" "), vertex) else {
+        return Err(refused);
+    };
+    for (i, value) in odd {
+        if let Some(k) = axes.iter().position(|&a| a == i) {
+            v.0[k] = value;
+        }
+    }
+    Ok(v)
 }
 
 /// Reads and drops the elements of `element`.
@@ -192,6 +256,26 @@ fn unsupported(message: impl Into<String>) -> CloudProblem {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn non_finite_ascii_coordinates_are_read() {
+        let parser = Parser::<Vertex>::new();
+        let header = parser
+            .read_header(&mut Reader::new(
+                &b"ply\nformat ascii 1.0\nelement vertex 1\nproperty float nx\nproperty float x\nproperty float y\nproperty float z\nproperty list uchar int ids\nend_header\n"[..],
+            ))
+            .unwrap();
+        let vertex = &header.elements["vertex"];
+        let axes = axis_tokens(vertex);
+        assert_eq!(axes, Some([1, 2, 3]));
+        let v = read_ascii_vertex(&parser, "nan 1 -inf 3 1 7\n", vertex, axes).unwrap();
+        assert_eq!(v.0[0], 1.0);
+        assert_eq!(v.0[1], f64::NEG_INFINITY);
+        assert_eq!(v.0[2], 3.0);
+        let v = read_ascii_vertex(&parser, "0 NaN 2 3 0\n", vertex, axes).unwrap();
+        assert!(v.0[0].is_nan());
+        assert!(read_ascii_vertex(&parser, "0 x 2 3 0\n", vertex, axes).is_err());
+    }
 
     #[test]
     fn a_vertex_is_three_doubles() {
