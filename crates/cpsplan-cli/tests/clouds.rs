@@ -896,3 +896,230 @@ proptest! {
         }
     }
 }
+
+/// Where the data of the LASzip VLR of a LAZ file start.
+fn laszip_record(bytes: &[u8]) -> usize {
+    let user_id = bytes
+        .windows(14)
+        .position(|w| w == b"laszip encoded")
+        .unwrap();
+    user_id - 2 + 54
+}
+
+/// A LAZ 1.4 file of point format 6 (layered chunks of 50 000 points).
+fn layered_laz(points: u32) -> Vec<u8> {
+    let mut builder = las::Builder::from((1, 4));
+    builder.point_format = las::point::Format::new(6).unwrap();
+    builder.point_format.is_compressed = true;
+    let header = builder.into_header().unwrap();
+    let mut writer = las::Writer::new(std::io::Cursor::new(Vec::new()), header).unwrap();
+    for i in 0..points {
+        writer
+            .write_point(las::Point {
+                x: f64::from(i) * 0.01,
+                y: f64::from(i % 100),
+                z: f64::from(i % 7),
+                gps_time: Some(f64::from(i)),
+                ..las::Point::default()
+            })
+            .unwrap();
+    }
+    writer.into_inner().unwrap().into_inner()
+}
+
+#[test]
+fn layered_laz_reads_and_its_layer_sizes_are_checked() {
+    let bytes = layered_laz(60_000);
+    let cloud = parse_cloud(&bytes, CloudFormat::Laz, &CloudReadOptions::default()).unwrap();
+    assert_eq!(cloud.points.len(), 60_000);
+    assert_eq!(cloud.points[12_345], [123.45, 45.0, 4.0]);
+    // The second chunk cut off: the first's 50 000 points are there.
+    let half = parse_cloud(
+        &bytes[..bytes.len() * 9 / 10],
+        CloudFormat::Laz,
+        &CloudReadOptions::default(),
+    )
+    .unwrap_err();
+    assert_eq!(
+        half.to_string(),
+        "LAZ data: truncated: the header promises 60000 points, the file ends after 50000"
+    );
+    // A first layer claiming 4 GB (the decoder would allocate it first).
+    let data = u32::from_le_bytes(bytes[96..100].try_into().unwrap()) as usize;
+    let record = usize::from(u16::from_le_bytes(bytes[105..107].try_into().unwrap()));
+    let mut huge = bytes.clone();
+    let first_layer = data + 8 + record + 4;
+    huge[first_layer..first_layer + 4].copy_from_slice(&0xFFFF_FFF0u32.to_le_bytes());
+    let e = parse_cloud(&huge, CloudFormat::Laz, &CloudReadOptions::default()).unwrap_err();
+    assert_eq!(
+        e.to_string(),
+        "LAZ data: truncated: the header promises 60000 points, the file ends after 0"
+    );
+}
+
+#[test]
+fn laszip_records_the_decoder_trusts_are_checked() {
+    let bytes = encode_las(&model(2, 100), true).unwrap();
+    let record = laszip_record(&bytes);
+    // No items (the decoder panics on these).
+    let mut none = bytes.clone();
+    none[record + 32..record + 34].copy_from_slice(&0u16.to_le_bytes());
+    let e = parse_cloud(&none, CloudFormat::Laz, &CloudReadOptions::default()).unwrap_err();
+    assert_eq!(
+        e.to_string(),
+        "LAZ data: not a valid LAZ file: the LASzip items describe 0-byte points, the header 34-byte ones"
+    );
+    // Items that add up to another point size.
+    let mut short = bytes.clone();
+    let first_item_size = record + 34 + 2;
+    short[first_item_size..first_item_size + 2].copy_from_slice(&10u16.to_le_bytes());
+    let e = parse_cloud(&short, CloudFormat::Laz, &CloudReadOptions::default()).unwrap_err();
+    assert!(
+        e.to_string()
+            .contains("the LASzip items describe 24-byte points"),
+        "{e}"
+    );
+    // A chunk table claiming 4 billion chunks (the decoder reserves them first).
+    let mut chunks = bytes.clone();
+    let table = laz_points_end(&bytes);
+    chunks[table + 4..table + 8].copy_from_slice(&u32::MAX.to_le_bytes());
+    let e = parse_cloud(&chunks, CloudFormat::Laz, &CloudReadOptions::default()).unwrap_err();
+    assert_eq!(
+        e.to_string(),
+        "LAZ data: not a valid LAZ file: the chunk table claims 4294967295 chunks, more than the file can hold"
+    );
+    // A chunk-table offset pointing past the end: read without the table.
+    let mut lost = bytes.clone();
+    let data = u32::from_le_bytes(bytes[96..100].try_into().unwrap()) as usize;
+    lost[data..data + 8].copy_from_slice(&(1i64 << 40).to_le_bytes());
+    let cloud = parse_cloud(&lost, CloudFormat::Laz, &CloudReadOptions::default()).unwrap();
+    assert_eq!(cloud.points.len(), 200);
+}
+
+#[test]
+fn extended_vlrs_longer_than_the_file_are_refused() {
+    let mut bytes = las14_claiming(2);
+    let at = bytes.len() as u64;
+    let mut evlr = vec![0u8; 60];
+    evlr[20..28].copy_from_slice(&(u64::MAX / 2).to_le_bytes());
+    bytes.extend(evlr);
+    bytes[235..243].copy_from_slice(&at.to_le_bytes());
+    bytes[243..247].copy_from_slice(&1u32.to_le_bytes());
+    let e = parse_cloud(&bytes, CloudFormat::Las, &CloudReadOptions::default()).unwrap_err();
+    assert_eq!(
+        e.to_string(),
+        format!(
+            "LAS data: truncated: the first extended VLR needs {} bytes, the file has 60",
+            u64::MAX / 2 + 60
+        )
+    );
+}
+
+/// A LAS 1.2 file of one point (1, 2, 3) with GeoTIFF keys `keys` (key, value).
+fn las_with_geokeys(keys: &[(u16, u16)]) -> Vec<u8> {
+    let mut data: Vec<u16> = vec![1, 1, 0, keys.len() as u16];
+    for &(key, value) in keys {
+        data.extend([key, 0, 1, value]);
+    }
+    let mut builder = las::Builder::from((1, 2));
+    builder.vlrs.push(las::Vlr {
+        user_id: "LASF_Projection".to_string(),
+        record_id: 34735,
+        description: String::new(),
+        data: data.iter().flat_map(|v| v.to_le_bytes()).collect(),
+    });
+    let mut writer = las::Writer::new(
+        std::io::Cursor::new(Vec::new()),
+        builder.into_header().unwrap(),
+    )
+    .unwrap();
+    writer
+        .write_point(las::Point {
+            x: 1.0,
+            y: 2.0,
+            z: 3.0,
+            ..las::Point::default()
+        })
+        .unwrap();
+    writer.into_inner().unwrap().into_inner()
+}
+
+#[test]
+fn geotiff_keys_give_horizontal_and_vertical_units() {
+    let read = |keys: &[(u16, u16)], units| {
+        let options = CloudReadOptions {
+            units,
+            ..CloudReadOptions::default()
+        };
+        parse_cloud(&las_with_geokeys(keys), CloudFormat::Las, &options).unwrap()
+    };
+    let us = 1200.0 / 3937.0;
+    let close = |a: [f64; 3], b: [f64; 3]| (0..3).all(|k| (a[k] - b[k]).abs() < 1e-3);
+    // US survey feet across, metres up.
+    let cloud = read(&[(3072, 2992), (3076, 9003), (4099, 9001)], None);
+    assert!(
+        close(cloud.points[0], [us, 2.0 * us, 3.0]),
+        "{:?}",
+        cloud.points
+    );
+    assert_eq!(cloud.notes.len(), 1, "{:?}", cloud.notes);
+    assert!(cloud.notes[0].starts_with("LAS x and y in US survey feet"));
+    // Feet, heights unstated: feet too.
+    let cloud = read(&[(3076, 9002)], None);
+    assert!(close(cloud.points[0], [0.3048, 0.6096, 0.9144]));
+    // Geographic linear units when there is no projected one.
+    let cloud = read(&[(2052, 9002)], None);
+    assert!(close(cloud.points[0], [0.3048, 0.6096, 0.9144]));
+    // Metres, or no units: as stored, without a note.
+    for keys in [&[(3076, 9001)][..], &[(1024, 1)][..]] {
+        let cloud = read(keys, None);
+        assert!(close(cloud.points[0], [1.0, 2.0, 3.0]));
+        assert!(cloud.notes.is_empty(), "{:?}", cloud.notes);
+    }
+    // --units wins, for heights too.
+    let cloud = read(&[(3076, 9002)], Some(LengthUnit::UsSurveyFoot));
+    assert!(close(cloud.points[0], [us, 2.0 * us, 3.0 * us]));
+}
+
+#[test]
+fn pcd_sizes_the_reader_trusts_are_checked() {
+    let header = |count: &str, points: u32, data: &str| {
+        format!(
+            "VERSION 0.7\nFIELDS _ x y z\nSIZE 1 4 4 4\nTYPE U F F F\nCOUNT {count} 1 1 1\nWIDTH {points}\nHEIGHT 1\nPOINTS {points}\nDATA {data}\n"
+        )
+        .into_bytes()
+    };
+    // Padding of a terabyte a point (the reader allocates it per point).
+    let mut huge = header("1000000000000", 1, "binary");
+    huge.extend([0; 16]);
+    let e = parse_cloud(&huge, CloudFormat::Pcd, &CloudReadOptions::default()).unwrap_err();
+    assert!(
+        e.to_string()
+            .starts_with("PCD data: unsupported PCD file: records of"),
+        "{e}"
+    );
+    let mut overflow = header("18446744073709551615", 1, "ascii");
+    overflow.extend(b"0 1 2 3\n");
+    let e = parse_cloud(&overflow, CloudFormat::Pcd, &CloudReadOptions::default()).unwrap_err();
+    assert_one_line(&e, "PCD data");
+    // A compressed block that expands to less than the points (the reader
+    // indexes past it) or claims more bytes than there are.
+    let mut short = header("1", 10, "binary_compressed");
+    short.extend(13u32.to_le_bytes());
+    short.extend(16u32.to_le_bytes());
+    short.push(15);
+    short.extend([0; 16]);
+    let e = parse_cloud(&short, CloudFormat::Pcd, &CloudReadOptions::default()).unwrap_err();
+    assert_eq!(
+        e.to_string(),
+        "PCD data: not a valid PCD file: the compressed data expands to 16 bytes, not the 10 × 13 of the points"
+    );
+    let mut long = header("1", 10, "binary_compressed");
+    long.extend(u32::MAX.to_le_bytes());
+    long.extend(160u32.to_le_bytes());
+    let e = parse_cloud(&long, CloudFormat::Pcd, &CloudReadOptions::default()).unwrap_err();
+    assert_eq!(
+        e.to_string(),
+        "PCD data: truncated: the compressed point data needs 4294967295 bytes, the file has 0"
+    );
+}
