@@ -1123,3 +1123,92 @@ fn pcd_sizes_the_reader_trusts_are_checked() {
         "PCD data: truncated: the compressed point data needs 4294967295 bytes, the file has 0"
     );
 }
+
+#[test]
+fn e57_scans_are_posed_converted_and_flagged_points_dropped() {
+    use e57::{
+        Quaternion, Record, RecordDataType, RecordName, RecordValue, Transform, Translation,
+    };
+    let tmp = tempfile::tempdir().unwrap();
+    let path = tmp.path().join("two scans.e57");
+    let mut writer = e57::E57Writer::from_file(&path, "file").unwrap();
+    let double = |name| Record {
+        name,
+        data_type: RecordDataType::F64,
+    };
+    let cartesian = vec![
+        double(RecordName::CartesianX),
+        double(RecordName::CartesianY),
+        double(RecordName::CartesianZ),
+        Record {
+            name: RecordName::CartesianInvalidState,
+            data_type: RecordDataType::Integer { min: 0, max: 2 },
+        },
+    ];
+    let mut scan = writer.add_pointcloud("scan-a", cartesian).unwrap();
+    // A quarter turn about z, then a translation.
+    let h = std::f64::consts::FRAC_1_SQRT_2;
+    scan.set_transform(Some(Transform {
+        rotation: Quaternion {
+            w: h,
+            x: 0.0,
+            y: 0.0,
+            z: h,
+        },
+        translation: Translation {
+            x: 10.0,
+            y: 20.0,
+            z: 1.0,
+        },
+    }));
+    for (p, state) in [
+        ([1.0, 0.0, 0.0], 0),
+        ([0.0, 2.0, 0.0], 2),
+        ([0.0, 0.0, 3.0], 0),
+    ] {
+        let mut values: Vec<RecordValue> = p.iter().map(|&c| RecordValue::Double(c)).collect();
+        values.push(RecordValue::Integer(state));
+        scan.add_point(values).unwrap();
+    }
+    scan.finalize().unwrap();
+    let spherical = vec![
+        double(RecordName::SphericalRange),
+        double(RecordName::SphericalAzimuth),
+        double(RecordName::SphericalElevation),
+    ];
+    let mut scan = writer.add_pointcloud("scan-b", spherical).unwrap();
+    let quarter = std::f64::consts::FRAC_PI_2;
+    for p in [[2.0, 0.0, 0.0], [1.0, quarter, 0.0], [3.0, 0.0, quarter]] {
+        scan.add_point(p.iter().map(|&c| RecordValue::Double(c)).collect())
+            .unwrap();
+    }
+    scan.finalize().unwrap();
+    writer.finalize().unwrap();
+    drop(writer);
+
+    let cloud = read(&path, &CloudReadOptions::default());
+    let want = [
+        [10.0, 21.0, 1.0],
+        [10.0, 20.0, 4.0],
+        [2.0, 0.0, 0.0],
+        [0.0, 1.0, 0.0],
+        [0.0, 0.0, 3.0],
+    ];
+    assert_eq!(cloud.points.len(), want.len());
+    for (got, want) in cloud.points.iter().zip(want) {
+        for k in 0..3 {
+            assert!((got[k] - want[k]).abs() < 1e-12, "{got:?} vs {want:?}");
+        }
+    }
+    assert_eq!(cloud.points_in_file, 6);
+    assert_eq!(cloud.points_dropped, 1);
+    assert_eq!(cloud.scans.len(), 2);
+    assert_eq!(cloud.scans[0].points, 0..2);
+    assert_eq!(cloud.scans[0].origin, Some([10.0, 20.0, 1.0]));
+    assert_eq!(cloud.scans[1].points, 2..5);
+    assert_eq!(cloud.scans[1].origin, None);
+    assert_eq!(
+        cloud.notes,
+        vec!["1 points flagged invalid by the file were dropped"]
+    );
+}
