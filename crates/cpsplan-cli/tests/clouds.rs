@@ -1015,18 +1015,14 @@ fn extended_vlrs_longer_than_the_file_are_refused() {
     );
 }
 
-/// A LAS 1.2 file of one point (1, 2, 3) with GeoTIFF keys `keys` (key, value).
-fn las_with_geokeys(keys: &[(u16, u16)]) -> Vec<u8> {
-    let mut data: Vec<u16> = vec![1, 1, 0, keys.len() as u16];
-    for &(key, value) in keys {
-        data.extend([key, 0, 1, value]);
-    }
+/// A LAS 1.2 file of one point (1, 2, 3) with a `LASF_Projection` VLR.
+fn las_with_projection(record_id: u16, data: Vec<u8>) -> Vec<u8> {
     let mut builder = las::Builder::from((1, 2));
     builder.vlrs.push(las::Vlr {
         user_id: "LASF_Projection".to_string(),
-        record_id: 34735,
+        record_id,
         description: String::new(),
-        data: data.iter().flat_map(|v| v.to_le_bytes()).collect(),
+        data,
     });
     let mut writer = las::Writer::new(
         std::io::Cursor::new(Vec::new()),
@@ -1042,6 +1038,31 @@ fn las_with_geokeys(keys: &[(u16, u16)]) -> Vec<u8> {
         })
         .unwrap();
     writer.into_inner().unwrap().into_inner()
+}
+
+/// A LAS 1.2 file of one point (1, 2, 3) with GeoTIFF keys `keys` (key, value).
+fn las_with_geokeys(keys: &[(u16, u16)]) -> Vec<u8> {
+    let mut data: Vec<u16> = vec![1, 1, 0, keys.len() as u16];
+    for &(key, value) in keys {
+        data.extend([key, 0, 1, value]);
+    }
+    las_with_projection(34735, data.iter().flat_map(|v| v.to_le_bytes()).collect())
+}
+
+#[test]
+fn wkt_gives_horizontal_and_vertical_units() {
+    let wkt = r#"COMPD_CS["NAD83 / Oregon GIC Lambert (ft) + NAVD88 height (ftUS)",PROJCS["NAD83 / Oregon GIC Lambert (ft)",GEOGCS["NAD83",DATUM["NAD83",SPHEROID["GRS 1980",6378137,298.257222101]],PRIMEM["Greenwich",0],UNIT["degree",0.0174532925199433]],PROJECTION["Lambert_Conformal_Conic_2SP"],UNIT["foot",0.3048]],VERT_CS["NAVD88 height (ftUS)",VERT_DATUM["NAVD88",2005],UNIT["US survey foot",0.304800609601219]]]"#;
+    let mut data = wkt.as_bytes().to_vec();
+    data.push(0);
+    let bytes = las_with_projection(2112, data);
+    let cloud = parse_cloud(&bytes, CloudFormat::Las, &CloudReadOptions::default()).unwrap();
+    let p = cloud.points[0];
+    assert!(
+        (p[0] - 0.3048).abs() < 1e-4 && (p[1] - 0.6096).abs() < 1e-4,
+        "{p:?}"
+    );
+    assert!((p[2] - 3.0 * 1200.0 / 3937.0).abs() < 1e-4, "{p:?}");
+    assert_eq!(cloud.notes.len(), 2, "{:?}", cloud.notes);
 }
 
 #[test]
