@@ -1,5 +1,6 @@
 //! Map and record file formats.
 
+pub mod cloud;
 pub mod config;
 mod png_chunks;
 mod pnm;
