@@ -1,7 +1,5 @@
 //! The `cloud_grid` fuzz target's body.
-use cpsplan::world::projection::{
-    project, BeamOrigin, GroundModel, HeightBand, ProjectionParams,
-};
+use cpsplan::world::projection::{project, BeamOrigin, GroundModel, HeightBand, ProjectionParams};
 use cpsplan::Config;
 use cpsplan_cli::formats::cloud::{parse_cloud, CloudFormat, CloudReadOptions};
 
@@ -56,7 +54,10 @@ pub fn run(data: &[u8]) {
             GroundModel::Plane
         },
         band: if flags & 8 != 0 {
-            HeightBand::Absolute { min: -1.0, max: 1.0 }
+            HeightBand::Absolute {
+                min: -1.0,
+                max: 1.0,
+            }
         } else {
             ProjectionParams::default().band
         },

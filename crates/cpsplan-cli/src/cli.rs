@@ -362,7 +362,9 @@ fn parse_triple(s: &str) -> Result<[f64; 3], String> {
 fn parse_transform(s: &str) -> Result<(f64, f64, f64), String> {
     let parts: Vec<&str> = s.split(',').map(str::trim).collect();
     let [tx, ty, yaw] = parts.as_slice() else {
-        return Err(format!("expected TX,TY,YAW (metres, metres, radians), got `{s}`"));
+        return Err(format!(
+            "expected TX,TY,YAW (metres, metres, radians), got `{s}`"
+        ));
     };
     let num = |t: &str| {
         t.parse::<f64>()

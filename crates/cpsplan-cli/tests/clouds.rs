@@ -130,8 +130,9 @@ fn shared_pcds_and_e57_carry_their_formats_and_origins() {
     assert_eq!(room.scans[0].origin, Some([0.0; 3]));
     let pump = read(&dir.join("pump_room_scan.e57"), &options);
     assert_eq!(pump.format, CloudFormat::E57);
-    // The file's data3D has no pose.
-    assert_eq!(pump.scans[0].origin, None);
+    // The file's data3D has no pose: its local frame is the file's (E57
+    // standard, `pose`: identity when absent), the scanner at its origin.
+    assert_eq!(pump.scans[0].origin, Some([0.0; 3]));
 }
 
 #[test]
@@ -473,10 +474,7 @@ fn nan_points_are_refused_by_default_and_dropped_on_request() {
         assert_eq!(cloud.points_in_file, 3);
         assert_eq!(cloud.points_dropped, 1);
         assert!(
-            cloud
-                .notes
-                .iter()
-                .any(|n| n.contains("1 points with a NaN")),
+            cloud.notes.iter().any(|n| n.contains("1 point with a NaN")),
             "{:?}",
             cloud.notes
         );
@@ -1227,9 +1225,10 @@ fn e57_scans_are_posed_converted_and_flagged_points_dropped() {
     assert_eq!(cloud.scans[0].points, 0..2);
     assert_eq!(cloud.scans[0].origin, Some([10.0, 20.0, 1.0]));
     assert_eq!(cloud.scans[1].points, 2..5);
-    assert_eq!(cloud.scans[1].origin, None);
+    // Without a pose the scan is in the file frame, its scanner at the origin.
+    assert_eq!(cloud.scans[1].origin, Some([0.0; 3]));
     assert_eq!(
         cloud.notes,
-        vec!["1 points flagged invalid by the file were dropped"]
+        vec!["1 point flagged invalid by the file was dropped"]
     );
 }

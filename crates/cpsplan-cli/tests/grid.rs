@@ -41,7 +41,13 @@ fn json(path: &Path) -> Value {
 
 /// Converts `cloud` with `flags`, checks the map, explores it to completion and
 /// plans one step on its first knowledge map. Returns the grid command's output.
-fn convert_explore_plan(cloud: &Path, flags: &[&str], min_free: usize, min_occupied: usize) -> String {
+fn convert_explore_plan(
+    cloud: &Path,
+    flags: &[&str],
+    explore_flags: &[&str],
+    min_free: usize,
+    min_occupied: usize,
+) -> String {
     let dir = tempfile::tempdir().unwrap();
     let map = dir.path().join("map.yaml");
     let out = cpsplan()
@@ -55,23 +61,43 @@ fn convert_explore_plan(cloud: &Path, flags: &[&str], min_free: usize, min_occup
         "{}",
         String::from_utf8_lossy(&out.stderr)
     );
-    for needle in ["points read", "kept", "free", "occupied", "unknown", "cells of"] {
+    for needle in [
+        "points read",
+        "kept",
+        "free",
+        "occupied",
+        "unknown",
+        "cells of",
+    ] {
         assert!(text.contains(needle), "`{needle}` not in {text}");
     }
     let grid = load_map(&map).expect("the map loads");
     let (free, occ) = (grid.count(CellState::Free), grid.count(CellState::Occupied));
-    assert!(free >= min_free && occ >= min_occupied, "{free} free, {occ} occupied");
+    assert!(
+        free >= min_free && occ >= min_occupied,
+        "{free} free, {occ} occupied"
+    );
     let report = dir.path().join("report");
     let run = cpsplan()
         .args(["explore", "--map", s(&map), "--out", s(&report), "-q"])
+        .args(explore_flags)
         .output()
         .unwrap();
-    assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
     let summary = json(&report.join("summary.json"));
     assert!(summary["scans"].as_u64().unwrap() >= 1);
     let stop = summary["stop_reason"].as_str().unwrap().to_string();
     assert!(
-        ["complete", "frontier_below_threshold", "no_reachable_frontier"].contains(&stop.as_str()),
+        [
+            "complete",
+            "frontier_below_threshold",
+            "no_reachable_frontier"
+        ]
+        .contains(&stop.as_str()),
         "{stop}"
     );
     // One step for the team as it stood at the first scan.
@@ -79,12 +105,26 @@ fn convert_explore_plan(cloud: &Path, flags: &[&str], min_free: usize, min_occup
     let start = &episode["start"];
     let parent = format!("{},{}", start["x"], start["y"]);
     let mut plan = cpsplan();
-    plan.args(["plan", "--known", s(&report.join("knowledge.yaml")), "--parent", &parent]);
+    plan.args([
+        "plan",
+        "--known",
+        s(&report.join("knowledge.yaml")),
+        "--parent",
+        &parent,
+    ]);
+    // The planning resolution of the run, if a flag set it.
+    if let Some(i) = explore_flags.iter().position(|f| *f == "--resolution") {
+        plan.args(["--resolution", explore_flags[i + 1]]);
+    }
     for c in episode["steps"][0]["children"].as_array().unwrap() {
         plan.args(["--child", &format!("{},{}", c["x"], c["y"])]);
     }
     let planned = plan.output().unwrap();
-    assert!(planned.status.success(), "{}", String::from_utf8_lossy(&planned.stderr));
+    assert!(
+        planned.status.success(),
+        "{}",
+        String::from_utf8_lossy(&planned.stderr)
+    );
     let step: Value = serde_json::from_slice(&planned.stdout).expect("plan prints JSON");
     assert!(step.is_object());
     text
@@ -95,7 +135,7 @@ fn pcd_room_scan_converts_and_explores() {
     let Some(cloud) = shared("pcl_room_scan1.pcd", "pcd_room_scan_converts_and_explores") else {
         return;
     };
-    convert_explore_plan(&cloud, &[], 20_000, 2_000);
+    convert_explore_plan(&cloud, &["--free-from-scans"], &[], 5_000, 1_000);
 }
 
 #[test]
@@ -106,7 +146,7 @@ fn pcd_velodyne_sweep_converts_and_explores() {
     ) else {
         return;
     };
-    convert_explore_plan(&cloud, &["--free-from-scans"], 20_000, 2_000);
+    convert_explore_plan(&cloud, &["--free-from-scans"], &[], 20_000, 2_000);
 }
 
 #[test]
@@ -120,10 +160,14 @@ fn laz_airborne_survey_in_feet_converts_to_metres_and_explores() {
     let text = convert_explore_plan(
         &cloud,
         &["--resolution", "1", "--height-above-ground", "1,60"],
+        &["--resolution", "0.5", "--range", "40"],
         10_000,
         1_000,
     );
-    assert!(text.contains("feet"), "the unit conversion is reported: {text}");
+    assert!(
+        text.contains("feet"),
+        "the unit conversion is reported: {text}"
+    );
     // 1177 ft × 563 ft is about 359 m × 172 m.
     let width: f64 = text
         .split("cells of 1 m (")
@@ -136,11 +180,13 @@ fn laz_airborne_survey_in_feet_converts_to_metres_and_explores() {
 
 #[test]
 fn e57_terrestrial_scan_converts_and_explores() {
-    let Some(cloud) = shared("pump_room_scan.e57", "e57_terrestrial_scan_converts_and_explores")
-    else {
+    let Some(cloud) = shared(
+        "pump_room_scan.e57",
+        "e57_terrestrial_scan_converts_and_explores",
+    ) else {
         return;
     };
-    convert_explore_plan(&cloud, &["--free-from-scans"], 1_000, 300);
+    convert_explore_plan(&cloud, &["--free-from-scans"], &[], 500, 200);
 }
 
 /// `grid` with `args` fails with exit code 2 and one line containing every
@@ -191,7 +237,11 @@ fn broken_clouds_and_absurd_parameters_are_refused_cleanly() {
     let src = tempfile::tempdir().unwrap();
     let d = src.path();
     let good = write(d, "room.pcd", ROOM_PCD.as_bytes());
-    let nan = write(d, "nan.pcd", ROOM_PCD.replace("1 1 0.5", "1 nan 0.5").as_bytes());
+    let nan = write(
+        d,
+        "nan.pcd",
+        ROOM_PCD.replace("1 1 0.5", "1 nan 0.5").as_bytes(),
+    );
     let empty = write(d, "empty.ply", b"ply\nformat ascii 1.0\nelement vertex 0\nproperty float x\nproperty float y\nproperty float z\nend_header\n");
     let garbage = write(d, "garbage.las", b"LASF this is not a LAS file at all");
     let nothing = write(d, "nothing.e57", b"");
@@ -204,15 +254,36 @@ fn broken_clouds_and_absurd_parameters_are_refused_cleanly() {
     for r in ["0", "-1", "nan"] {
         refused(&["--cloud", s(&good), "--resolution", r], &["--resolution"]);
     }
-    // So fine that the grid would exceed the cell limit.
+    // So fine that the grid would exceed the cell limit: 1e5 × 1e5 cells.
+    let wide = write(
+        d,
+        "wide.pcd",
+        ROOM_PCD.replace("1 1 0.5", "100 100 0.5").as_bytes(),
+    );
     refused(
-        &["--cloud", s(&good), "--resolution", "0.00001"],
+        &["--cloud", s(&wide), "--resolution", "0.001"],
         &["limits.max_grid_cells"],
     );
-    refused(&["--cloud", s(&good), "--height-above-ground", "2,1"], &["--height-above-ground"]);
-    refused(&["--cloud", s(&good), "--min-points", "0"], &["--min-points"]);
-    refused(&["--cloud", s(&good), "--free-from-scans", "--origin", "1,2"], &["--origin"]);
-    if let Some(laz) = shared("autzen_trim.laz", "broken_clouds_and_absurd_parameters_are_refused_cleanly") {
+    refused(
+        &["--cloud", s(&good), "--resolution", "0.00001"],
+        &["--resolution"],
+    );
+    refused(
+        &["--cloud", s(&good), "--height-above-ground", "2,1"],
+        &["--height-above-ground"],
+    );
+    refused(
+        &["--cloud", s(&good), "--min-points", "0"],
+        &["--min-points"],
+    );
+    refused(
+        &["--cloud", s(&good), "--free-from-scans", "--origin", "1,2"],
+        &["--origin"],
+    );
+    if let Some(laz) = shared(
+        "autzen_trim.laz",
+        "broken_clouds_and_absurd_parameters_are_refused_cleanly",
+    ) {
         let bytes = std::fs::read(laz).unwrap();
         let cut = write(d, "cut.laz", &bytes[..bytes.len() / 2]);
         refused(&["--cloud", s(&cut)], &["cut.laz"]);
@@ -220,11 +291,22 @@ fn broken_clouds_and_absurd_parameters_are_refused_cleanly() {
     // The good file converts, with the NaN one skipped when asked.
     let out = tempfile::tempdir().unwrap();
     let ok = cpsplan()
-        .args(["grid", "--cloud", s(&nan), "--drop-invalid", "--out", s(&out.path().join("m.yaml"))])
+        .args([
+            "grid",
+            "--cloud",
+            s(&nan),
+            "--drop-invalid",
+            "--out",
+            s(&out.path().join("m.yaml")),
+        ])
         .args(["--z-min", "0", "--z-max", "1"])
         .output()
         .unwrap();
-    assert!(ok.status.success(), "{}", String::from_utf8_lossy(&ok.stderr));
+    assert!(
+        ok.status.success(),
+        "{}",
+        String::from_utf8_lossy(&ok.stderr)
+    );
     let grid = load_map(&out.path().join("m.yaml")).unwrap();
     assert_eq!(grid.count(CellState::Occupied), 1);
     assert_eq!(grid.count(CellState::Free), 2);

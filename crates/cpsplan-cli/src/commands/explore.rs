@@ -14,8 +14,8 @@ use indicatif::{ProgressBar, ProgressStyle};
 
 use super::{load_planning_grid, read_config, validate};
 use crate::cli::{ExploreArgs, ScoringArg};
-use crate::render::{render_step, StepView};
 use crate::formats::cloud::{encode_las, encode_ply, encode_stations_ply};
+use crate::render::{render_step, StepView};
 use crate::report::{
     write_atomic, write_episode_outputs, write_temp, MapSource, ReportDir, TempFile,
 };
@@ -88,7 +88,11 @@ pub fn build_config(args: &ExploreArgs) -> Result<Config> {
                 "--monte-carlo",
                 args.monte_carlo.is_some(),
             ),
-            ("model.wall_height", "--wall-height", args.wall_height.is_some()),
+            (
+                "model.wall_height",
+                "--wall-height",
+                args.wall_height.is_some(),
+            ),
             (
                 "model.vertical_step",
                 "--vertical-step",

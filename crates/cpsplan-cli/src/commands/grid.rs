@@ -65,9 +65,9 @@ fn bar(quiet: bool, total: u64, what: &str) -> ProgressBar {
         return ProgressBar::hidden();
     }
     let bar = ProgressBar::new(total);
-    if let Ok(style) =
-        ProgressStyle::with_template("{spinner} {msg} {bar:30} {human_pos}/{human_len} points {eta}")
-    {
+    if let Ok(style) = ProgressStyle::with_template(
+        "{spinner} {msg} {bar:30} {human_pos}/{human_len} points {eta}",
+    ) {
         bar.set_style(style);
     }
     bar.set_message(what.to_string());
@@ -80,7 +80,11 @@ pub fn run(args: &GridArgs) -> Result<()> {
     config.validate()?;
     let params = params(args);
     cpsplan::world::projection::check_params(&params)?;
-    if args.out.extension().is_none_or(|e| e != "yaml" && e != "yml") {
+    if args
+        .out
+        .extension()
+        .is_none_or(|e| e != "yaml" && e != "yml")
+    {
         bail!(
             "--out {}: the map's file name must end in .yaml (its image goes beside it as .pgm)",
             args.out.display()
@@ -121,7 +125,13 @@ pub fn run(args: &GridArgs) -> Result<()> {
     let notes = yaml_notes(args, &cloud, &projection, &params);
     save_map_with_notes(&projection.grid, &args.out, &notes)?;
     if !args.quiet {
-        print_summary(args, &cloud, &projection, read_s, t0.elapsed().as_secs_f64());
+        print_summary(
+            args,
+            &cloud,
+            &projection,
+            read_s,
+            t0.elapsed().as_secs_f64(),
+        );
     }
     Ok(())
 }

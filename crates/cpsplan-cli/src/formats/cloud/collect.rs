@@ -113,14 +113,16 @@ impl<'a> Collector<'a> {
         }
         if self.flagged > 0 {
             self.notes.push(format!(
-                "{} points flagged invalid by the file were dropped",
-                self.flagged
+                "{} flagged invalid by the file {} dropped",
+                count(self.flagged, "point", "points"),
+                if self.flagged == 1 { "was" } else { "were" }
             ));
         }
         if self.non_finite > 0 {
             self.notes.push(format!(
-                "{} points with a NaN or infinite coordinate were dropped (--drop-invalid)",
-                self.non_finite
+                "{} with a NaN or infinite coordinate {} dropped (--drop-invalid)",
+                count(self.non_finite, "point", "points"),
+                if self.non_finite == 1 { "was" } else { "were" }
             ));
         }
         self.points.shrink_to_fit();
@@ -161,6 +163,11 @@ pub(crate) fn check_claim(claimed: u64, options: &CloudReadOptions) -> Result<()
         });
     }
     Ok(())
+}
+
+/// `n` with its noun: `1 point`, `2 points`.
+fn count(n: u64, one: &str, many: &str) -> String {
+    format!("{n} {}", if n == 1 { one } else { many })
 }
 
 #[cfg(test)]

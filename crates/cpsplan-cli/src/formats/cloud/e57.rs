@@ -9,7 +9,9 @@
 //! `sphericalInvalidState` is 0 (or absent), converted; points with neither
 //! (invalid, or a direction without range) are dropped and counted. Every
 //! point is then put in the file's common frame by its scan's pose (rotation
-//! quaternion, then translation), whose translation is the scan's origin.
+//! quaternion, then translation), whose translation is the scan's origin (a
+//! scan without a pose is in the file's frame, its scanner at the origin: the
+//! E57 standard's identity default).
 
 use e57::{E57Reader, PointCloud, RecordName, RecordValue};
 
@@ -43,7 +45,7 @@ pub(crate) fn read<S: Source>(
                 None => collector.push_flagged()?,
             }
         }
-        collector.end_scan(pc.transform.as_ref().map(|_| pose.translation));
+        collector.end_scan(Some(pose.translation));
     }
     collector.finish(CloudFormat::E57)
 }

@@ -2,13 +2,15 @@
 //! from.
 //!
 //! - none: the ground is `z = 0` (absolute heights);
-//! - plane: the lower envelope of the cloud fitted by a plane, by least squares
-//!   on the lowest point of every tile, dropping the tiles far above the plane
-//!   (roofs, canopies, tables) until none is left to drop;
+//! - plane: a plane through the lowest point of every tile, found by RANSAC
+//!   (the plane that most tiles lie within a tolerance of, so roofs, canopies
+//!   and tables do not tilt it) and refined by least squares on those tiles;
 //! - lowest: under every cell, the lowest point within a window around it (a
 //!   morphological erosion of the cells' lowest points).
 
 use nalgebra::{Matrix3, Vector3};
+use rand::{RngExt, SeedableRng};
+use rand_chacha::ChaCha8Rng;
 
 use super::HeightBand;
 use crate::geom::Point;
@@ -66,11 +68,14 @@ pub enum Ground {
 /// Side of the plane fit's tiles, metres (at least two cells).
 const TILE_M: f64 = 1.0;
 
-/// A tile whose lowest point lies more than this above the plane is not ground.
+/// A tile whose lowest point lies farther than this from the plane is not on it.
 const PLANE_TOLERANCE_M: f64 = 0.15;
 
-/// Refits of the plane at most.
-const PLANE_ROUNDS: usize = 20;
+/// RANSAC trials (three tiles each; fixed seed, so the fit is reproducible).
+const PLANE_TRIALS: usize = 500;
+
+/// Least-squares refits on the inliers at most.
+const PLANE_ROUNDS: usize = 5;
 
 impl Ground {
     /// The ground under `geometry`'s cells estimated from the kept points.
@@ -163,28 +168,18 @@ fn plane(points: &[[f64; 3]], keep: &[bool], geometry: &GridGeometry) -> Ground 
         tiles.iter().map(|p| p[0]).sum::<f64>() / n,
         tiles.iter().map(|p| p[1]).sum::<f64>() / n,
     );
-    let mut used = vec![true; tiles.len()];
-    let (mut a, mut b, mut c) = (
-        0.0,
-        0.0,
-        tiles.iter().map(|p| p[2]).fold(f64::INFINITY, f64::min),
-    );
+    let (mut a, mut b, mut c) = ransac(&tiles, at);
+    let mut used = inliers(&tiles, at, (a, b, c));
     for _ in 0..PLANE_ROUNDS {
         let Some((na, nb, nc)) = fit(&tiles, &used, at) else {
             break;
         };
         (a, b, c) = (na, nb, nc);
-        let mut changed = false;
-        for (u, p) in used.iter_mut().zip(&tiles) {
-            let above = p[2] - (a * (p[0] - at.x) + b * (p[1] - at.y) + c) > PLANE_TOLERANCE_M;
-            if *u == above {
-                *u = !above;
-                changed = true;
-            }
-        }
-        if !changed {
+        let next = inliers(&tiles, at, (a, b, c));
+        if next == used {
             break;
         }
+        used = next;
     }
     let support = used.iter().filter(|&&u| u).count();
     let cells = (0..geometry.len())
@@ -201,6 +196,52 @@ fn plane(points: &[[f64; 3]], keep: &[bool], geometry: &GridGeometry) -> Ground 
         support,
         cells,
     }
+}
+
+/// Which tiles lie within the tolerance of the plane `(a, b, c)`.
+fn inliers(tiles: &[[f64; 3]], at: Point, (a, b, c): (f64, f64, f64)) -> Vec<bool> {
+    tiles
+        .iter()
+        .map(|p| (p[2] - (a * (p[0] - at.x) + b * (p[1] - at.y) + c)).abs() <= PLANE_TOLERANCE_M)
+        .collect()
+}
+
+/// The plane through three tiles that most tiles lie near (ties: the lower
+/// plane at the tiles' centroid); a level plane at the lowest tile when fewer
+/// than three tiles or no trial gives a plane. Planes steeper than 45° are not
+/// ground.
+fn ransac(tiles: &[[f64; 3]], at: Point) -> (f64, f64, f64) {
+    let lowest = tiles.iter().map(|p| p[2]).fold(f64::INFINITY, f64::min);
+    let mut best = (0.0, 0.0, if lowest.is_finite() { lowest } else { 0.0 });
+    if tiles.len() < 3 {
+        return best;
+    }
+    let mut best_count = inliers(tiles, at, best).iter().filter(|&&u| u).count();
+    let mut rng = ChaCha8Rng::seed_from_u64(0x6772_6f75_6e64);
+    for _ in 0..PLANE_TRIALS {
+        let pick = |rng: &mut ChaCha8Rng| tiles[rng.random_range(0..tiles.len())];
+        let (p, q, r) = (pick(&mut rng), pick(&mut rng), pick(&mut rng));
+        let u = [q[0] - p[0], q[1] - p[1], q[2] - p[2]];
+        let v = [r[0] - p[0], r[1] - p[1], r[2] - p[2]];
+        let n = [
+            u[1] * v[2] - u[2] * v[1],
+            u[2] * v[0] - u[0] * v[2],
+            u[0] * v[1] - u[1] * v[0],
+        ];
+        let norm = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
+        // Degenerate trios and steep planes (walls) are skipped.
+        if norm < 1e-12 || n[2].abs() < std::f64::consts::FRAC_1_SQRT_2 * norm {
+            continue;
+        }
+        let (a, b) = (-n[0] / n[2], -n[1] / n[2]);
+        let c = p[2] - a * (p[0] - at.x) - b * (p[1] - at.y);
+        let count = inliers(tiles, at, (a, b, c)).iter().filter(|&&u| u).count();
+        if count > best_count || (count == best_count && c < best.2) {
+            best = (a, b, c);
+            best_count = count;
+        }
+    }
+    best
 }
 
 /// Least-squares plane `z = a·dx + b·dy + c` through the used tiles; `None`
