@@ -95,6 +95,9 @@ pub struct GridArgs {
     /// the file.
     #[arg(long)]
     pub drop_invalid: bool,
+    /// Also draw the map as a PNG picture into this file.
+    #[arg(long, value_name = "FILE.png")]
+    pub preview: Option<PathBuf>,
     /// TOML file with the limits (`[limits]`, see docs/USER-GUIDE.md).
     #[arg(long, value_name = "FILE")]
     pub config: Option<PathBuf>,

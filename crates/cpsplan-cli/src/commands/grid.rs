@@ -1,5 +1,6 @@
 //! `cpsplan grid`: a 3D point cloud projected to a ROS map_server map.
 
+use std::path::Path;
 use std::time::Instant;
 
 use anyhow::{anyhow, bail, Result};
@@ -13,6 +14,8 @@ use super::read_config;
 use crate::cli::{GridArgs, GroundArg};
 use crate::formats::cloud::{read_cloud, Cloud, CloudReadOptions};
 use crate::formats::rosmap::save_map_with_notes;
+use crate::render::render_map;
+use crate::report::write_temp;
 
 /// Clouds of at least this many points get a progress bar.
 const PROGRESS_POINTS: u64 = 1_000_000;
@@ -123,7 +126,19 @@ pub fn run(args: &GridArgs) -> Result<()> {
     .map_err(|e| anyhow!("{}: {e}", args.cloud.display()))?;
     projecting.finish_and_clear();
     let notes = yaml_notes(args, &cloud, &projection, &params);
+    let preview = match &args.preview {
+        Some(path) => {
+            let title = format!("cpsplan grid \u{2014} {}", file_name(&args.cloud));
+            let png = render_map(&projection.grid, &title)
+                .map_err(|e| anyhow!("--preview {}: {e}", path.display()))?;
+            Some(write_temp(path, &png)?)
+        }
+        None => None,
+    };
     save_map_with_notes(&projection.grid, &args.out, &notes)?;
+    if let (Some(path), Some(png)) = (&args.preview, preview) {
+        png.persist(path)?;
+    }
     if !args.quiet {
         print_summary(
             args,
@@ -134,6 +149,13 @@ pub fn run(args: &GridArgs) -> Result<()> {
         );
     }
     Ok(())
+}
+
+/// The file name of `path` (the whole path when it has none).
+fn file_name(path: &Path) -> String {
+    path.file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_else(|| path.display().to_string())
 }
 
 /// The comment lines of the map's YAML: where it came from and how.
@@ -222,10 +244,10 @@ fn print_summary(args: &GridArgs, cloud: &Cloud, p: &Projection, read_s: f64, to
     );
     let rate = cloud.points_in_file as f64 / total_s.max(1e-9);
     println!(
-        "written to {} in {:.2} s (reading {:.2} s, {} points/s overall)",
+        "written to {} in {:.2} s (reading {:.2} s, {:.2} M points/s overall)",
         args.out.display(),
         total_s,
         read_s,
-        approx(rate)
+        rate / 1e6
     );
 }

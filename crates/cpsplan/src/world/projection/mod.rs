@@ -294,8 +294,10 @@ pub fn project(
     if kept == 0 {
         return Err(ProjectionError::Empty(" left after outlier removal"));
     }
+    // Origins matter only for beams (and then widen the grid to hold them).
     let origins: Vec<BeamOrigin> = origins
         .iter()
+        .filter(|_| params.free_from_scans)
         .filter(|o| o.origin.iter().all(|v| v.is_finite()))
         .map(|o| BeamOrigin {
             points: o.points.start.min(points.len())..o.points.end.min(points.len()),
@@ -518,6 +520,24 @@ mod tests {
         assert_eq!(p.stats.beams, pts.len());
         let none = project(&pts, &[], &params, &Config::default(), |_, _| {}).unwrap_err();
         assert_eq!(none, ProjectionError::NoOrigins);
+    }
+
+    #[test]
+    fn origins_far_away_matter_only_with_beams() {
+        let pts = room();
+        let origins = [BeamOrigin {
+            points: 0..pts.len(),
+            origin: [-500.0, 0.0, 0.0],
+        }];
+        let d = ProjectionParams::default();
+        let p = project(&pts, &origins, &d, &Config::default(), |_, _| {}).unwrap();
+        assert!(p.grid.width() < 50);
+        let beams = ProjectionParams {
+            free_from_scans: true,
+            ..d
+        };
+        let p = project(&pts, &origins, &beams, &Config::default(), |_, _| {}).unwrap();
+        assert!(p.grid.width() > 5000, "the grid holds the origin");
     }
 
     #[test]

@@ -1,0 +1,104 @@
+//! `explore --cloud-out`: the registered 3D model of a full default episode,
+//! read back by the `las` crate and by cpsplan's own PLY reader, lies on the
+//! ground-truth walls within the accuracy the report states.
+
+use std::path::Path;
+
+use assert_cmd::Command;
+use cpsplan::model::GroundTruthWalls;
+use cpsplan::world::builtin::BuiltinMap;
+use cpsplan_cli::formats::cloud::{read_cloud, scan_colour, CloudReadOptions};
+use las::Reader;
+use serde_json::Value;
+
+fn cpsplan() -> Command {
+    Command::cargo_bin("cpsplan").expect("binary built")
+}
+
+fn s(p: &Path) -> &str {
+    p.to_str().expect("UTF-8 path")
+}
+
+fn summary(dir: &Path) -> Value {
+    serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap()
+}
+
+#[test]
+fn the_default_episode_writes_a_las_and_a_ply_on_the_walls() {
+    let tmp = tempfile::tempdir().unwrap();
+    let (las_path, ply_path) = (tmp.path().join("model.las"), tmp.path().join("model.ply"));
+    for (out, cloud) in [("report-las", &las_path), ("report-ply", &ply_path)] {
+        let run = cpsplan()
+            .args(["explore", "-q", "--monte-carlo", "20", "--out"])
+            .arg(tmp.path().join(out))
+            .args(["--cloud-out", s(cloud)])
+            .output()
+            .unwrap();
+        assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
+    }
+    let report = summary(&tmp.path().join("report-las"));
+    let model = &report["model"];
+    assert_eq!(model["poses"], "estimated");
+    let points = model["points"].as_u64().unwrap() as usize;
+    let p95 = model["p95_distance_m"].as_f64().unwrap();
+    let mean = model["mean_distance_m"].as_f64().unwrap();
+    let scans = report["scans"].as_u64().unwrap() as usize;
+    assert!(points > 100_000 && p95 > 0.0 && mean <= p95, "{model}");
+
+    // The LAS, by the las crate.
+    let mut reader = Reader::from_path(&las_path).unwrap();
+    let header = reader.header().clone();
+    assert_eq!(header.number_of_points() as usize, points);
+    assert_eq!((header.version().major, header.version().minor), (1, 2));
+    let truth = BuiltinMap::Site.generate(0);
+    let walls = GroundTruthWalls::new(&truth, 2.0);
+    let mut distances = Vec::with_capacity(points);
+    let mut seen_scans = vec![false; scans];
+    let data = reader.read_all().unwrap();
+    for p in data.points() {
+        let p = p.unwrap();
+        let scan = p.point_source_id as usize;
+        assert_eq!(p.gps_time, Some(scan as f64));
+        let [r, g, b] = scan_colour(scan as u32);
+        let c = p.color.expect("RGB");
+        // LAS colours are 16-bit: the 8-bit palette scaled by 257.
+        assert_eq!((c.red, c.green, c.blue), (257 * u16::from(r), 257 * u16::from(g), 257 * u16::from(b)));
+        seen_scans[scan] = true;
+        distances.push(walls.distance([p.x, p.y, p.z]));
+    }
+    assert!(seen_scans.iter().all(|&s| s), "every scan has points");
+    // The stated figures, within the LAS's 0.1 mm quantum.
+    let within = distances.iter().filter(|&&d| d <= p95 + 1e-4).count();
+    assert!(within as f64 >= 0.95 * points as f64, "{within} of {points} within {p95}");
+    let read_mean = distances.iter().sum::<f64>() / points as f64;
+    assert!((read_mean - mean).abs() < 1e-4, "{read_mean} vs {mean}");
+
+    // The PLY, by cpsplan's reader (ply-rs-bw): the same points.
+    let ply = read_cloud(&ply_path, &CloudReadOptions::default(), &mut |_, _| {}).unwrap();
+    assert_eq!(ply.points.len(), points);
+    let stations = read_cloud(
+        &tmp.path().join("model-stations.ply"),
+        &CloudReadOptions::default(),
+        &mut |_, _| {},
+    )
+    .unwrap();
+    assert_eq!(stations.points.len(), scans);
+    let csv = std::fs::read_to_string(tmp.path().join("report-las/model.csv")).unwrap();
+    assert_eq!(csv.lines().count(), scans + 1);
+}
+
+#[test]
+fn a_bad_cloud_name_is_refused_before_the_run_and_nothing_is_written() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = cpsplan()
+        .args(["explore", "--max-scans", "2", "--out"])
+        .arg(tmp.path().join("report"))
+        .args(["--cloud-out", s(&tmp.path().join("model.xyz"))])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("--cloud-out") && err.contains(".las"), "{err}");
+    assert_eq!(err.lines().count(), 1, "{err}");
+    assert_eq!(std::fs::read_dir(tmp.path()).unwrap().count(), 0);
+}
