@@ -11,7 +11,9 @@ use cpsplan::model::{build_model, ModelPoint};
 use cpsplan::world::builtin::BuiltinMap;
 use cpsplan::world::projection::{project, BeamOrigin, ProjectionParams};
 use cpsplan::{run_episode, Config};
-use cpsplan_cli::formats::cloud::{encode_las, encode_ply, read_cloud, CloudError, CloudReadOptions};
+use cpsplan_cli::formats::cloud::{
+    encode_las, encode_ply, read_cloud, CloudError, CloudReadOptions,
+};
 
 /// The best of `n` runs of `f`, seconds, and its last result.
 fn best<T>(n: usize, mut f: impl FnMut() -> T) -> (f64, T) {
@@ -38,7 +40,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     println!("default episode with 20 Monte Carlo runs: {episode_s:.3} s");
     let (model_s, _) = best(5, || build_model(&truth, &episode, &config, |_, _| {}));
     let mut points = Vec::new();
-    build_model(&truth, &episode, &config, |_, p| points.extend_from_slice(p))?;
+    build_model(&truth, &episode, &config, |_, p| {
+        points.extend_from_slice(p)
+    })?;
     println!(
         "model: {} points, built with its accuracy in {:.3} s ({:.1} M points/s)",
         points.len(),
@@ -75,13 +79,21 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 })
             })
             .collect();
-        let mut line = format!("{path}: {n} points, read {:.1} M points/s", n / read_s / 1e6);
-        for beams in [false, true].into_iter().filter(|&b| !b || !origins.is_empty()) {
+        let mut line = format!(
+            "{path}: {n} points, read {:.1} M points/s",
+            n / read_s / 1e6
+        );
+        for beams in [false, true]
+            .into_iter()
+            .filter(|&b| !b || !origins.is_empty())
+        {
             let params = ProjectionParams {
                 free_from_scans: beams,
                 ..ProjectionParams::default()
             };
-            let (s, p) = best(5, || project(&cloud.points, &origins, &params, &config, |_, _| {}));
+            let (s, p) = best(5, || {
+                project(&cloud.points, &origins, &params, &config, |_, _| {})
+            });
             let cells = p?.grid.geometry().len();
             line += &format!(
                 "; projected{} {:.1} M points/s ({} cells)",

@@ -280,13 +280,23 @@ fn broken_clouds_and_absurd_parameters_are_refused_cleanly() {
         &["--cloud", s(&good), "--free-from-scans", "--origin", "1,2"],
         &["--origin"],
     );
-    if let Some(laz) = shared(
+    // Every shared cloud cut short.
+    for name in [
         "autzen_trim.laz",
-        "broken_clouds_and_absurd_parameters_are_refused_cleanly",
-    ) {
-        let bytes = std::fs::read(laz).unwrap();
-        let cut = write(d, "cut.laz", &bytes[..bytes.len() / 2]);
-        refused(&["--cloud", s(&cut)], &["cut.laz"]);
+        "pump_room_scan.e57",
+        "pcl_room_scan1.pcd",
+        "velodyne_outdoor_scan_251370668.pcd",
+    ] {
+        let Some(path) = shared(
+            name,
+            "broken_clouds_and_absurd_parameters_are_refused_cleanly",
+        ) else {
+            continue;
+        };
+        let bytes = std::fs::read(path).unwrap();
+        let cut_name = format!("cut-{name}");
+        let cut = write(d, &cut_name, &bytes[..bytes.len() / 2]);
+        refused(&["--cloud", s(&cut)], &[&cut_name]);
     }
     // The good file converts, with the NaN one skipped when asked.
     let out = tempfile::tempdir().unwrap();

@@ -34,7 +34,11 @@ fn the_default_episode_writes_a_las_and_a_ply_on_the_walls() {
             .args(["--cloud-out", s(cloud)])
             .output()
             .unwrap();
-        assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
+        assert!(
+            run.status.success(),
+            "{}",
+            String::from_utf8_lossy(&run.stderr)
+        );
     }
     let report = summary(&tmp.path().join("report-las"));
     let model = &report["model"];
@@ -62,14 +66,20 @@ fn the_default_episode_writes_a_las_and_a_ply_on_the_walls() {
         let [r, g, b] = scan_colour(scan as u32);
         let c = p.color.expect("RGB");
         // LAS colours are 16-bit: the 8-bit palette scaled by 257.
-        assert_eq!((c.red, c.green, c.blue), (257 * u16::from(r), 257 * u16::from(g), 257 * u16::from(b)));
+        assert_eq!(
+            (c.red, c.green, c.blue),
+            (257 * u16::from(r), 257 * u16::from(g), 257 * u16::from(b))
+        );
         seen_scans[scan] = true;
         distances.push(walls.distance([p.x, p.y, p.z]));
     }
     assert!(seen_scans.iter().all(|&s| s), "every scan has points");
     // The stated figures, within the LAS's 0.1 mm quantum.
     let within = distances.iter().filter(|&&d| d <= p95 + 1e-4).count();
-    assert!(within as f64 >= 0.95 * points as f64, "{within} of {points} within {p95}");
+    assert!(
+        within as f64 >= 0.95 * points as f64,
+        "{within} of {points} within {p95}"
+    );
     let read_mean = distances.iter().sum::<f64>() / points as f64;
     assert!((read_mean - mean).abs() < 1e-4, "{read_mean} vs {mean}");
 
@@ -85,6 +95,39 @@ fn the_default_episode_writes_a_las_and_a_ply_on_the_walls() {
     assert_eq!(stations.points.len(), scans);
     let csv = std::fs::read_to_string(tmp.path().join("report-las/model.csv")).unwrap();
     assert_eq!(csv.lines().count(), scans + 1);
+
+    // Out and back in: each model becomes a map of the site's walls again; a
+    // truncated PLY is refused with nothing written.
+    for cloud in [&las_path, &ply_path] {
+        let map = tmp.path().join("again.yaml");
+        let run = cpsplan()
+            .args(["grid", "-q", "--cloud", s(cloud), "--out", s(&map)])
+            .args(["--z-min", "0.5", "--z-max", "1.5"])
+            .output()
+            .unwrap();
+        assert!(
+            run.status.success(),
+            "{}",
+            String::from_utf8_lossy(&run.stderr)
+        );
+        let grid = cpsplan_cli::formats::rosmap::load_map(&map).unwrap();
+        assert!(grid.count(cpsplan::CellState::Occupied) > 5_000);
+    }
+    let bytes = std::fs::read(&ply_path).unwrap();
+    let cut = tmp.path().join("cut.ply");
+    std::fs::write(&cut, &bytes[..bytes.len() - 100]).unwrap();
+    let run = cpsplan()
+        .args([
+            "grid",
+            "--cloud",
+            s(&cut),
+            "--out",
+            s(&tmp.path().join("cut.yaml")),
+        ])
+        .output()
+        .unwrap();
+    assert_eq!(run.status.code(), Some(2));
+    assert!(!tmp.path().join("cut.yaml").exists() && !tmp.path().join("cut.pgm").exists());
 }
 
 #[test]

@@ -233,15 +233,16 @@ pub fn run(args: &ExploreArgs) -> Result<()> {
         }
         let a = &model.accuracy;
         println!(
-            "3D model: {} points, {:.1} mm mean and {:.1} mm 95th-percentile distance to the walls \
-             (registered in the {} poses)",
+            "3D model: {} points, {:.1} mm mean and {:.1} mm 95th-percentile distance to the walls ({})",
             a.points,
             a.mean_distance_m * 1e3,
             a.p95_distance_m * 1e3,
             if episode.steps.iter().any(|s| s.estimate.is_some()) {
-                "estimated"
+                "registered in the estimated poses"
+            } else if s.final_position_sigma_m.is_some() {
+                "true poses, range noise only; --monte-carlo N registers it in estimated ones"
             } else {
-                "true"
+                "true poses, range noise only"
             }
         );
         println!("report written to {}", args.out.display());
