@@ -63,8 +63,9 @@ pub struct SummaryRecord<'a> {
     pub start: Point,
     /// Planning resolution, metres.
     pub resolution: f64,
-    /// The registered 3D model's accuracy against the ground-truth walls.
-    pub model: ModelSummary,
+    /// The registered 3D model's accuracy against the ground-truth walls
+    /// (`null` when the model would exceed `limits.max_cloud_points`).
+    pub model: Option<ModelSummary>,
     /// The configuration used.
     pub config: &'a Config,
 }
@@ -406,7 +407,7 @@ pub fn write_episode_outputs(
     truth: &OccupancyGrid,
     source: &MapSource,
     episode: &Episode,
-    model: &RegisteredModel,
+    model: Option<&RegisteredModel>,
     wall_ms: f64,
 ) -> Result<()> {
     std::fs::create_dir_all(dir)
@@ -419,10 +420,12 @@ pub fn write_episode_outputs(
         wall_ms: (wall_ms * 1000.0).round() / 1000.0,
         start: episode.start,
         resolution: g.resolution,
-        model: ModelSummary::new(
-            &model.accuracy,
-            episode.steps.iter().any(|s| s.estimate.is_some()),
-        ),
+        model: model.map(|m| {
+            ModelSummary::new(
+                &m.accuracy,
+                episode.steps.iter().any(|s| s.estimate.is_some()),
+            )
+        }),
         config: &episode.config,
     };
     let record = EpisodeRecord {
@@ -448,7 +451,9 @@ pub fn write_episode_outputs(
         &serde_json::to_vec_pretty(&record)?,
     )?;
     write_atomic(&dir.join("metrics.csv"), &metrics_csv(episode)?)?;
-    write_atomic(&dir.join("model.csv"), &model_csv(&model.accuracy)?)?;
+    if let Some(m) = model {
+        write_atomic(&dir.join("model.csv"), &model_csv(&m.accuracy)?)?;
+    }
     write_atomic(&dir.join("map.png"), &png)?;
     if let Some(large) = &large {
         write_atomic(&dir.join("map-large.png"), large)?;

@@ -145,3 +145,49 @@ fn a_bad_cloud_name_is_refused_before_the_run_and_nothing_is_written() {
     assert_eq!(err.lines().count(), 1, "{err}");
     assert_eq!(std::fs::read_dir(tmp.path()).unwrap().count(), 0);
 }
+
+#[test]
+fn a_model_beyond_the_point_limit_is_left_out_of_the_report_or_refused() {
+    let tmp = tempfile::tempdir().unwrap();
+    let config = tmp.path().join("limits.toml");
+    std::fs::write(&config, "[limits]\nmax_cloud_points = 1000\n").unwrap();
+    let report = tmp.path().join("report");
+    let run = cpsplan()
+        .args([
+            "explore",
+            "-q",
+            "--max-scans",
+            "2",
+            "--config",
+            s(&config),
+            "--out",
+            s(&report),
+        ])
+        .output()
+        .unwrap();
+    assert!(run.status.success());
+    let err = String::from_utf8_lossy(&run.stderr);
+    assert!(err.contains("limits.max_cloud_points"), "{err}");
+    assert!(summary(&report)["model"].is_null());
+    assert!(!report.join("model.csv").exists());
+    // With --cloud-out the model is the point: exit 2, nothing written.
+    let other = tmp.path().join("other");
+    let cloud = tmp.path().join("model.laz");
+    let run = cpsplan()
+        .args([
+            "explore",
+            "-q",
+            "--max-scans",
+            "2",
+            "--config",
+            s(&config),
+            "--out",
+            s(&other),
+        ])
+        .args(["--cloud-out", s(&cloud)])
+        .output()
+        .unwrap();
+    assert_eq!(run.status.code(), Some(2));
+    assert!(!other.exists() && !cloud.exists());
+    assert!(!tmp.path().join("model-stations.ply").exists());
+}

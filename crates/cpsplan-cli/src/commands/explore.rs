@@ -171,18 +171,35 @@ pub fn run(args: &ExploreArgs) -> Result<()> {
         bail!("cannot draw the figure of step {scan}: {e}");
     }
     let mut points = Vec::new();
-    let model = build_model(&truth, &episode, &config, |_, p| {
+    let mut model_warning = None;
+    let model = match build_model(&truth, &episode, &config, |_, p| {
         if cloud_format.is_some() {
             points.extend_from_slice(p);
         }
-    })?;
+    }) {
+        Ok(m) => Some(m),
+        Err(e) if args.cloud_out.is_none() => {
+            model_warning = Some(format!("{e}: the report states no 3D model accuracy"));
+            None
+        }
+        Err(e) => bail!("--cloud-out: {e}"),
+    };
     // The cloud and its stations under temporary names until the report is in.
-    let cloud = match (&args.cloud_out, cloud_format) {
-        (Some(path), Some(format)) => Some(write_model_cloud(path, format, &points, &model)?),
+    let cloud = match (&args.cloud_out, cloud_format, &model) {
+        (Some(path), Some(format), Some(model)) => {
+            Some(write_model_cloud(path, format, &points, model)?)
+        }
         _ => None,
     };
     drop(points);
-    write_episode_outputs(report.path(), &truth, &source, &episode, &model, wall_ms)?;
+    write_episode_outputs(
+        report.path(),
+        &truth,
+        &source,
+        &episode,
+        model.as_ref(),
+        wall_ms,
+    )?;
     for (scan, png) in &figures {
         write_atomic(&report.path().join(step_figure_name(*scan)), png)?;
     }
@@ -231,20 +248,21 @@ pub fn run(args: &ExploreArgs) -> Result<()> {
                 s.instrument
             );
         }
-        let a = &model.accuracy;
-        println!(
-            "3D model: {} points, {:.1} mm mean and {:.1} mm 95th-percentile distance to the walls ({})",
-            a.points,
-            a.mean_distance_m * 1e3,
-            a.p95_distance_m * 1e3,
-            if episode.steps.iter().any(|s| s.estimate.is_some()) {
-                "registered in the estimated poses"
-            } else if s.final_position_sigma_m.is_some() {
-                "true poses, range noise only; --monte-carlo N registers it in estimated ones"
-            } else {
-                "true poses, range noise only"
-            }
-        );
+        if let Some(a) = model.as_ref().map(|m| &m.accuracy) {
+            println!(
+                "3D model: {} points, {:.1} mm mean and {:.1} mm 95th-percentile distance to the walls ({})",
+                a.points,
+                a.mean_distance_m * 1e3,
+                a.p95_distance_m * 1e3,
+                if episode.steps.iter().any(|s| s.estimate.is_some()) {
+                    "registered in the estimated poses"
+                } else if s.final_position_sigma_m.is_some() {
+                    "true poses, range noise only; --monte-carlo N registers it in estimated ones"
+                } else {
+                    "true poses, range noise only"
+                }
+            );
+        }
         println!("report written to {}", args.out.display());
         if let Some(path) = &args.cloud_out {
             println!(
@@ -255,6 +273,9 @@ pub fn run(args: &ExploreArgs) -> Result<()> {
         }
     }
     if let Some(w) = coverage_warning(&episode.summary) {
+        eprintln!("warning: {w}");
+    }
+    if let Some(w) = model_warning {
         eprintln!("warning: {w}");
     }
     Ok(())

@@ -2,7 +2,8 @@
 //! decoder sees it, for what the decoder does not check itself:
 //! - a LASzip record whose items do not add up to the point record length
 //!   (with no items at all the decoder panics, with a wrong total it reads past
-//!   its buffers);
+//!   its buffers; the total is summed without the 16-bit wrap-around of
+//!   `LazVlr::items_size`);
 //! - a chunk table that claims more chunks than the file could hold (the
 //!   decoder reserves memory for every claimed chunk first);
 //! - variable-size chunks whose table covers fewer points than the header
@@ -55,10 +56,10 @@ pub(crate) fn check<R: Read + Seek>(
     data_start: u64,
     len: u64,
 ) -> Checked<Table> {
-    if vlr.items_size() != u64::from(record_len) {
+    let items = items_size(vlr);
+    if items != u64::from(record_len) {
         return Err(bad(format!(
-            "the LASzip items describe {}-byte points, the header {record_len}-byte ones",
-            vlr.items_size()
+            "the LASzip items describe {items}-byte points, the header {record_len}-byte ones"
         )));
     }
     if !matches!(compressor, POINT_WISE_CHUNKED | LAYERED_CHUNKED) {
@@ -78,6 +79,15 @@ pub(crate) fn check<R: Read + Seek>(
         TableState::Missing => Table::Missing,
         _ => Table::Found,
     })
+}
+
+/// The bytes of a point the LASzip record's items describe. Summed here, not
+/// by `LazVlr::items_size`, which adds the 16-bit sizes in 16 bits: items of
+/// more than 65,535 bytes in all wrap around, and a total that wraps to the
+/// point record length passes for it while the decoder then splits a record
+/// buffer into more bytes than it has (a panic).
+fn items_size(vlr: &LazVlr) -> u64 {
+    vlr.items().iter().map(|i| u64::from(i.size())).sum()
 }
 
 /// A problem with the compressed data, as a malformed-LAZ error.
@@ -311,6 +321,29 @@ impl<R: Read + Seek> Seek for Patched<R> {
 mod tests {
     use super::*;
     use std::io::Cursor;
+
+    #[test]
+    fn items_of_more_than_64k_bytes_do_not_wrap_to_the_record_length() {
+        use laz::LazItemRecordBuilder;
+        // 20 + 8 + 6 + 2 × 32,768 bytes: 34 in 16 bits, the record length of
+        // point format 3.
+        let items = LazItemRecordBuilder::new()
+            .add_item(LazItemType::Point10)
+            .add_item(LazItemType::GpsTime)
+            .add_item(LazItemType::RGB12)
+            .add_item(LazItemType::Byte(32_768))
+            .add_item(LazItemType::Byte(32_768))
+            .build();
+        let vlr = LazVlr::from_laz_items(items);
+        assert_eq!(items_size(&vlr), 65_570);
+        let file = vec![0; 400];
+        let err = check(&mut Cursor::new(file), &vlr, 2, 1, 34, 0, 400).unwrap_err();
+        assert_eq!(
+            err.to_string(),
+            "not a valid LAZ file: the LASzip items describe 65570-byte points, \
+             the header 34-byte ones"
+        );
+    }
 
     #[test]
     fn the_patched_view_appends_an_empty_table() {

@@ -163,7 +163,7 @@ impl LengthUnit {
 pub struct CloudReadOptions {
     /// Most points a file may hold (`limits.max_cloud_points`).
     pub max_points: u64,
-    /// Largest file read, bytes (`limits.max_cloud_bytes`).
+    /// Largest file read, bytes (64 GiB by default).
     pub max_bytes: u64,
     /// Skip points with a non-finite coordinate instead of refusing the file.
     pub drop_invalid: bool,
@@ -202,8 +202,8 @@ pub enum CloudProblem {
     /// A directory, a FIFO, a device.
     #[error("not a regular file")]
     NotAFile,
-    /// The file is larger than `limits.max_cloud_bytes`.
-    #[error("file of {size} bytes, more than `limits.max_cloud_bytes` = {limit}")]
+    /// The file is larger than the largest a cloud may be.
+    #[error("file of {size} bytes, more than the {limit} bytes a cloud file may have")]
     FileTooLarge {
         /// Its size, bytes.
         size: u64,
