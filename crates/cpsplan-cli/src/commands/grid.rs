@@ -100,7 +100,8 @@ pub fn run(args: &GridArgs) -> Result<()> {
         units: args.units,
         ..CloudReadOptions::default()
     };
-    let reading = bar(args.quiet, 0, "reading");
+    // Shown once the reader knows the cloud is large.
+    let reading = ProgressBar::hidden();
     let cloud = read_cloud(&args.cloud, &options, &mut |done, total| {
         if total >= PROGRESS_POINTS && !args.quiet {
             if reading.is_hidden() {

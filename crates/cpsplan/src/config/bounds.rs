@@ -506,7 +506,7 @@ impl Config {
             return grid(
                 "limits.max_grid_cells",
                 format!(
-                    "the planning grid would have {} cells ({size}), more than \
+                    "the grid would have {} cells ({size}), more than \
                      `limits.max_grid_cells` = {}; choose a coarser resolution or raise the limit",
                     approx(cells as f64),
                     number(self.limits.max_grid_cells as f64)
@@ -516,9 +516,7 @@ impl Config {
         if width.max(height) > MAX_GRID_SIDE as u64 {
             return grid(
                 "resolution",
-                format!(
-                    "the planning grid would be {size}, longer than {MAX_GRID_SIDE} cells on a side"
-                ),
+                format!("the grid would be {size}, longer than {MAX_GRID_SIDE} cells on a side"),
             );
         }
         let far = [

@@ -22,6 +22,7 @@ mod beams;
 mod ground;
 mod outliers;
 
+use std::borrow::Cow;
 use std::ops::Range;
 
 use thiserror::Error;
@@ -285,7 +286,12 @@ pub fn project(
         return Err(ProjectionError::NoOrigins);
     }
     let t = params.transform;
-    let moved: Vec<[f64; 3]> = points.iter().map(|&p| t.apply(p)).collect();
+    // The cloud in the map frame (borrowed when there is no transform).
+    let moved: Cow<[[f64; 3]]> = if t == PlanarTransform::default() {
+        Cow::Borrowed(points)
+    } else {
+        Cow::Owned(points.iter().map(|&p| t.apply(p)).collect())
+    };
     let keep = match params.outlier_radius {
         Some(r) => outliers::inliers(&moved, r, OUTLIER_NEIGHBOURS),
         None => vec![true; moved.len()],
