@@ -3,7 +3,9 @@
 //! - a LASzip record whose items do not add up to the point record length
 //!   (with no items at all the decoder panics, with a wrong total it reads past
 //!   its buffers; the total is summed without the 16-bit wrap-around of
-//!   `LazVlr::items_size`);
+//!   `LazVlr::items_size`), or that declares an item of a fixed-size type
+//!   (Point10, GpsTime, ...) with another size (the decoder splits points by
+//!   the types' sizes and overruns the record);
 //! - a chunk table that claims more chunks than the file could hold (the
 //!   decoder reserves memory for every claimed chunk first);
 //! - variable-size chunks whose table covers fewer points than the header
@@ -56,6 +58,15 @@ pub(crate) fn check<R: Read + Seek>(
     data_start: u64,
     len: u64,
 ) -> Checked<Table> {
+    for item in vlr.items() {
+        let t = item.item_type();
+        if let Some(size) = fixed_size(t).filter(|&s| s != item.size()) {
+            return Err(bad(format!(
+                "the LASzip item {t:?} is of {size} bytes, the record says {}",
+                item.size()
+            )));
+        }
+    }
     let items = items_size(vlr);
     if items != u64::from(record_len) {
         return Err(bad(format!(
@@ -88,6 +99,22 @@ pub(crate) fn check<R: Read + Seek>(
 /// buffer into more bytes than it has (a panic).
 fn items_size(vlr: &LazVlr) -> u64 {
     vlr.items().iter().map(|i| u64::from(i.size())).sum()
+}
+
+/// The bytes of a LASzip item of type `t` (`None`: extra bytes, of the size
+/// the record gives). The decoder splits each point by these sizes, whatever
+/// sizes the record declares, so a record that declares others for them adds
+/// up to the point record length while the decoder overruns it (a panic).
+fn fixed_size(t: LazItemType) -> Option<u16> {
+    match t {
+        LazItemType::Byte(_) | LazItemType::Byte14(_) => None,
+        LazItemType::Point10 => Some(20),
+        LazItemType::GpsTime => Some(8),
+        LazItemType::RGB12 | LazItemType::RGB14 => Some(6),
+        LazItemType::RGBNIR14 => Some(8),
+        LazItemType::WavePacket13 | LazItemType::WavePacket14 => Some(29),
+        LazItemType::Point14 => Some(30),
+    }
 }
 
 /// A problem with the compressed data, as a malformed-LAZ error.
@@ -342,6 +369,28 @@ mod tests {
             err.to_string(),
             "not a valid LAZ file: the LASzip items describe 65570-byte points, \
              the header 34-byte ones"
+        );
+    }
+
+    #[test]
+    fn items_must_have_their_types_sizes() {
+        // Point10, Point10, RGB12 declared as 20 + 8 + 6 bytes: 34, the record
+        // length of point format 3, while the decoder splits 20 + 20 + 6.
+        let mut data = vec![2, 0, 0, 0, 2, 2, 0, 0, 0, 0, 0, 0, 0x50, 0xc3, 0, 0];
+        data.extend_from_slice(&[0xff; 16]);
+        data.extend_from_slice(&3u16.to_le_bytes());
+        for (t, size) in [(6u16, 20u16), (6, 8), (8, 6)] {
+            for v in [t, size, 2] {
+                data.extend_from_slice(&v.to_le_bytes());
+            }
+        }
+        let vlr = LazVlr::from_buffer(&data).unwrap();
+        assert_eq!(items_size(&vlr), 34);
+        let file = vec![0; 400];
+        let err = check(&mut Cursor::new(file), &vlr, 2, 1, 34, 0, 400).unwrap_err();
+        assert_eq!(
+            err.to_string(),
+            "not a valid LAZ file: the LASzip item Point10 is of 20 bytes, the record says 8"
         );
     }
 
