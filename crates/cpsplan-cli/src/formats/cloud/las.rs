@@ -26,6 +26,9 @@ const BATCH: u64 = 1 << 16;
 /// Bytes of an extended VLR's header.
 const EVLR_HEADER: u64 = 60;
 
+/// Bytes of a VLR's header.
+const VLR_HEADER: u64 = 54;
+
 /// Reads a LAS or LAZ file (which one is told by its header, whatever the
 /// extension said).
 pub(crate) fn read<S: Source>(
@@ -37,6 +40,9 @@ pub(crate) fn read<S: Source>(
     let len = source.len();
     let mut r = source.open().map_err(io)?;
     let raw = las::raw::Header::read_from(&mut r).map_err(|e| header_problem(expected, e))?;
+    // Where the VLRs start: the crate reads them after the header's fields,
+    // whatever size the header claims.
+    let vlrs_start = r.stream_position().map_err(io)?;
     let format = if raw.point_data_record_format & 0x80 != 0 {
         CloudFormat::Laz
     } else {
@@ -50,6 +56,7 @@ pub(crate) fn read<S: Source>(
     }
     check_transforms(&header, format)?;
     let data_start = u64::from(raw.offset_to_point_data);
+    check_vlrs_end(&header, format, vlrs_start, data_start)?;
     let mut patch = None;
     if format == CloudFormat::Laz {
         let vlr = header.laz_vlr().map_err(|e| malformed(format, e))?;
@@ -158,6 +165,31 @@ fn check_raw<R: Read + Seek>(
         }
     }
     Ok(points)
+}
+
+/// Refuses VLRs that run into the point data. The crate checks their end
+/// against the point data's start from the size the header claims, not from
+/// where it read them, so a header that claims fewer bytes than its fields take
+/// lets them overlap; the point data is then read (and for a LAZ file without
+/// its chunk table, patched: [`Patched`]) over bytes already taken as VLRs, and
+/// the second reading of the header finds a LASzip record other than the one
+/// checked (one without items panics the decoder).
+fn check_vlrs_end(
+    header: &las::Header,
+    format: CloudFormat,
+    vlrs_start: u64,
+    data_start: u64,
+) -> Result<(), CloudProblem> {
+    let end = header.vlrs().iter().fold(vlrs_start, |end, v| {
+        end.saturating_add(VLR_HEADER + v.data.len() as u64)
+    });
+    if end > data_start {
+        return Err(malformed(
+            format,
+            format!("its VLRs end at byte {end}, after the point data's start at {data_start}"),
+        ));
+    }
+    Ok(())
 }
 
 /// Refuses scales and offsets that make every coordinate meaningless.
@@ -281,6 +313,34 @@ fn io(e: std::io::Error) -> CloudProblem {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn vlrs_running_into_the_point_data_are_refused() {
+        use crate::formats::cloud::{encode_las, parse_cloud};
+        use cpsplan::model::ModelPoint;
+        let points: Vec<ModelPoint> = (0..10)
+            .map(|k| ModelPoint {
+                position: [k as f64 * 0.1, 0.5, 0.0],
+                scan: 0,
+            })
+            .collect();
+        for compressed in [false, true] {
+            let mut file = encode_las(&points, compressed).unwrap();
+            let start = u32::from_le_bytes(file[96..100].try_into().unwrap());
+            // A header that claims no bytes, and point data 22 bytes into the
+            // VLRs: the crate's own check counts the VLRs from byte 0.
+            file[94..96].copy_from_slice(&0u16.to_le_bytes());
+            file[96..100].copy_from_slice(&(start - 22).to_le_bytes());
+            let err = parse_cloud(&file, CloudFormat::Las, &CloudReadOptions::default())
+                .unwrap_err()
+                .to_string();
+            let want = format!(
+                "its VLRs end at byte {start}, after the point data's start at {}",
+                start - 22
+            );
+            assert!(err.ends_with(&want), "{err}");
+        }
+    }
 
     #[test]
     fn units_become_factors_and_notes() {
