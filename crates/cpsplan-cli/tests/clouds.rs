@@ -971,14 +971,23 @@ fn laszip_records_the_decoder_trusts_are_checked() {
         e.to_string(),
         "LAZ data: not a valid LAZ file: the LASzip items describe 0-byte points, the header 34-byte ones"
     );
-    // Items that add up to another point size.
+    // Items that add up to another point size: the RGB item left out.
     let mut short = bytes.clone();
-    let first_item_size = record + 34 + 2;
-    short[first_item_size..first_item_size + 2].copy_from_slice(&10u16.to_le_bytes());
+    short[record + 32..record + 34].copy_from_slice(&2u16.to_le_bytes());
     let e = parse_cloud(&short, CloudFormat::Laz, &CloudReadOptions::default()).unwrap_err();
     assert!(
         e.to_string()
-            .contains("the LASzip items describe 24-byte points"),
+            .contains("the LASzip items describe 28-byte points"),
+        "{e}"
+    );
+    // An item of a fixed-size type declaring another size.
+    let mut odd = bytes.clone();
+    let first_item_size = record + 34 + 2;
+    odd[first_item_size..first_item_size + 2].copy_from_slice(&10u16.to_le_bytes());
+    let e = parse_cloud(&odd, CloudFormat::Laz, &CloudReadOptions::default()).unwrap_err();
+    assert!(
+        e.to_string()
+            .contains("the LASzip item Point10 is of 20 bytes, the record says 10"),
         "{e}"
     );
     // A chunk table claiming 4 billion chunks (the decoder reserves them first).
