@@ -6,6 +6,8 @@
 //!   `LazVlr::items_size`), or that declares an item of a fixed-size type
 //!   (Point10, GpsTime, ...) with another size (the decoder splits points by
 //!   the types' sizes and overruns the record);
+//! - variable-size chunks asked of the compressor that does not chunk (the
+//!   decoder looks for a chunk table it never read and panics);
 //! - a chunk table that claims more chunks than the file could hold (the
 //!   decoder reserves memory for every claimed chunk first);
 //! - variable-size chunks whose table covers fewer points than the header
@@ -41,6 +43,8 @@ pub(crate) enum Table {
     Missing,
 }
 
+/// The LASzip compressor that does not chunk points (no chunk table).
+const POINT_WISE: u16 = 1;
 /// The LASzip compressor that chunks points and stores a chunk table.
 const POINT_WISE_CHUNKED: u16 = 2;
 /// The LASzip compressor that chunks points in layers (point formats 6–10).
@@ -72,6 +76,13 @@ pub(crate) fn check<R: Read + Seek>(
         return Err(bad(format!(
             "the LASzip items describe {items}-byte points, the header {record_len}-byte ones"
         )));
+    }
+    if compressor == POINT_WISE && vlr.uses_variable_size_chunks() {
+        // The decoder finds no chunk table to size the chunks by, and panics.
+        return Err(bad(
+            "the LASzip record asks for variable-size chunks from the compressor that does not chunk"
+                .to_string(),
+        ));
     }
     if !matches!(compressor, POINT_WISE_CHUNKED | LAYERED_CHUNKED) {
         // No chunk table (or a compressor the decoder refuses).
@@ -392,6 +403,23 @@ mod tests {
             err.to_string(),
             "not a valid LAZ file: the LASzip item Point10 is of 20 bytes, the record says 8"
         );
+    }
+
+    #[test]
+    fn variable_chunks_need_the_chunking_compressor() {
+        // Compressor 1 (point-wise, unchunked), chunk size 0 (variable), one
+        // Point10 item.
+        let mut data = vec![1, 0, 0, 0, 2, 2, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0];
+        data.extend_from_slice(&[0xff; 16]);
+        data.extend_from_slice(&1u16.to_le_bytes());
+        for v in [6u16, 20, 2] {
+            data.extend_from_slice(&v.to_le_bytes());
+        }
+        let vlr = LazVlr::from_buffer(&data).unwrap();
+        assert!(vlr.uses_variable_size_chunks());
+        let err = check(&mut Cursor::new(vec![0; 100]), &vlr, 1, 1, 20, 0, 100).unwrap_err();
+        assert!(err.to_string().contains("variable-size chunks"), "{err}");
+        assert!(check(&mut Cursor::new(vec![0; 100]), &vlr, 2, 1, 20, 0, 100).is_err());
     }
 
     #[test]
