@@ -58,8 +58,8 @@ pub enum Ground {
         at: Point,
         /// Tiles the plane rests on.
         support: usize,
-        /// Heights per cell, row-major.
-        cells: Vec<f64>,
+        /// The grid whose cell centres the heights are taken at.
+        geometry: GridGeometry,
     },
     /// A height per cell, row-major (`f64::INFINITY` where no point is near).
     Cells(Vec<f64>),
@@ -101,7 +101,18 @@ impl Ground {
     pub fn height(&self, index: usize) -> f64 {
         match self {
             Ground::Flat => 0.0,
-            Ground::Plane { cells, .. } | Ground::Cells(cells) => cells[index],
+            Ground::Plane {
+                a,
+                b,
+                c,
+                at,
+                geometry,
+                ..
+            } => {
+                let q = geometry.cell_center(geometry.cell(index));
+                a * (q.x - at.x) + b * (q.y - at.y) + c
+            }
+            Ground::Cells(cells) => cells[index],
         }
     }
 
@@ -182,19 +193,13 @@ fn plane(points: &[[f64; 3]], keep: &[bool], geometry: &GridGeometry) -> Ground 
         used = next;
     }
     let support = used.iter().filter(|&&u| u).count();
-    let cells = (0..geometry.len())
-        .map(|i| {
-            let q = geometry.cell_center(geometry.cell(i));
-            a * (q.x - at.x) + b * (q.y - at.y) + c
-        })
-        .collect();
     Ground::Plane {
         a,
         b,
         c,
         at,
         support,
-        cells,
+        geometry: *geometry,
     }
 }
 
