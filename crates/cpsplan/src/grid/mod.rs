@@ -11,6 +11,8 @@
 //!   "Frames").
 //! - [`distance`]: exact Euclidean distance and feature transforms.
 //! - [`travel`]: travel-distance sweeps (Dial's bucket queue) and descent to a path.
+//! - [`traversal`]: the cells a segment crosses with its parameter at each
+//!   (Amanatides–Woo).
 //! - [`search`]: early-stopping Dijkstra / A* with the sweep's step costs.
 //! - [`mod@line`]: the supercover of a straight segment.
 //! - [`path`]: string pulling and drivable shortcut paths.
@@ -27,6 +29,7 @@ pub mod search;
 pub mod terrain;
 pub mod travel;
 pub mod traversability;
+pub mod traversal;
 
 #[cfg(test)]
 pub(crate) mod fixtures;

@@ -9,6 +9,7 @@ use rand_distr::{Distribution, StandardNormal};
 
 use super::points::ModelPoint;
 use crate::geom::Point;
+use crate::grid::traversal::Traversal;
 use crate::grid::{CellState, OccupancyGrid};
 
 /// The scanner at one scan: its true pose and the pose the CPS estimated.
@@ -54,46 +55,19 @@ impl Sampling {
 
 /// Where the beam from `from` towards the centre of the cell at `index` first
 /// enters a cell of `truth` that is not Free (that cell, or a nearer wall the
-/// beam grazes on its way), world frame. The grid traversal of Amanatides and
-/// Woo (1987), in the grid's frame.
+/// beam grazes on its way), world frame ([`Traversal`], in the grid's frame).
 pub fn wall_hit(truth: &OccupancyGrid, from: Point, index: usize) -> Point {
     let g = truth.geometry();
     let cells = truth.cells();
     let r = g.resolution;
     let target = g.cell(index);
     let (sx, sy) = g.to_local(from);
-    let (dx, dy) = (
-        (target.x as f64 + 0.5) * r - sx,
-        (target.y as f64 + 0.5) * r - sy,
-    );
-    let (mut x, mut y) = ((sx / r).floor() as i64, (sy / r).floor() as i64);
-    // Per axis: the step, the beam parameter of the next cell boundary, and the
-    // parameter between boundaries.
-    let axis = |s: f64, d: f64, c: i64| -> (i64, f64, f64) {
-        if d > 0.0 {
-            (1, ((c + 1) as f64 * r - s) / d, r / d)
-        } else if d < 0.0 {
-            (-1, (c as f64 * r - s) / d, -r / d)
-        } else {
-            (0, f64::INFINITY, f64::INFINITY)
-        }
-    };
-    let (step_x, mut next_x, delta_x) = axis(sx, dx, x);
-    let (step_y, mut next_y, delta_y) = axis(sy, dy, y);
-    let mut t = 0.0;
+    let centre = ((target.x as f64 + 0.5) * r, (target.y as f64 + 0.5) * r);
+    let (dx, dy) = (centre.0 - sx, centre.1 - sy);
     let (tx, ty) = (target.x as i64, target.y as i64);
-    // At most one step per cell between the two ends.
-    let steps = (tx - x).unsigned_abs() + (ty - y).unsigned_abs();
-    for _ in 0..steps {
-        if next_x < next_y {
-            t = next_x;
-            next_x += delta_x;
-            x += step_x;
-        } else {
-            t = next_y;
-            next_y += delta_y;
-            y += step_y;
-        }
+    let mut t = 0.0;
+    for (x, y, entry) in Traversal::new(r, (sx, sy), centre) {
+        t = entry;
         let solid = g
             .checked_cell(x, y)
             .is_none_or(|c| cells[g.index(c)] != CellState::Free);

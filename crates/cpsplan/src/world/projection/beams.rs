@@ -1,8 +1,8 @@
 //! Free space along the beams: a cell is seen empty when a beam from its scan's
 //! origin to a point passes through it within the obstacle height band (its
 //! band there is observed and holds nothing), and the cell where a beam ends on
-//! the ground is seen too. The 2D traversal of Amanatides and Woo (1987), with
-//! the beam's height where it enters and leaves each cell.
+//! the ground is seen too. The 2D traversal ([`Traversal`]), with the beam's
+//! height where it enters and leaves each cell.
 
 use std::sync::atomic::{AtomicBool, Ordering};
 
@@ -10,6 +10,7 @@ use rayon::prelude::*;
 
 use super::ground::Ground;
 use super::BeamOrigin;
+use crate::grid::traversal::Traversal;
 use crate::grid::GridGeometry;
 
 /// Beams per progress report.
@@ -61,28 +62,14 @@ fn trace(
     let r = g.resolution;
     let (sx, sy) = g.to_local(crate::geom::Point::new(from[0], from[1]));
     let (ex, ey) = g.to_local(crate::geom::Point::new(to[0], to[1]));
-    let (dx, dy) = (ex - sx, ey - sy);
     let dz = to[2] - from[2];
-    let (mut x, mut y) = ((sx / r).floor() as i64, (sy / r).floor() as i64);
     let (tx, ty) = ((ex / r).floor() as i64, (ey / r).floor() as i64);
-    let axis = |s: f64, d: f64, c: i64| -> (i64, f64, f64) {
-        if d > 0.0 {
-            (1, ((c + 1) as f64 * r - s) / d, r / d)
-        } else if d < 0.0 {
-            (-1, (c as f64 * r - s) / d, -r / d)
-        } else {
-            (0, f64::INFINITY, f64::INFINITY)
-        }
-    };
-    let (step_x, mut next_x, delta_x) = axis(sx, dx, x);
-    let (step_y, mut next_y, delta_y) = axis(sy, dy, y);
-    let steps = (tx - x)
-        .unsigned_abs()
-        .saturating_add((ty - y).unsigned_abs());
-    let mut t_in = 0.0;
-    for _ in 0..steps {
-        let t_out = next_x.min(next_y).min(1.0);
-        if let Some(c) = g.checked_cell(x, y) {
+    let traversal = Traversal::new(r, (sx, sy), (ex, ey));
+    let (mut cell, mut t_in) = (traversal.start(), 0.0);
+    // Every cell before the last, with the beam's parameter where it leaves it.
+    for (x, y, entry) in traversal {
+        let t_out = entry.min(1.0);
+        if let Some(c) = g.checked_cell(cell.0, cell.1) {
             let i = g.index(c);
             let base = ground.height(i);
             let (z0, z1) = (from[2] + dz * t_in - base, from[2] + dz * t_out - base);
@@ -90,14 +77,7 @@ fn trace(
                 mark(i);
             }
         }
-        t_in = t_out;
-        if next_x < next_y {
-            next_x += delta_x;
-            x += step_x;
-        } else {
-            next_y += delta_y;
-            y += step_y;
-        }
+        (cell, t_in) = ((x, y), t_out);
     }
     // The last cell: seen when the beam ends on the ground there.
     if let Some(c) = g.checked_cell(tx, ty) {
