@@ -234,7 +234,7 @@ pub fn model_csv(accuracy: &ModelAccuracy) -> Result<Vec<u8>> {
 }
 
 /// Every file name a report may hold (besides `step-NNN.png`).
-pub const REPORT_FILES: [&str; 10] = [
+pub const REPORT_FILES: [&str; 12] = [
     "summary.json",
     "episode.json",
     "metrics.csv",
@@ -245,6 +245,8 @@ pub const REPORT_FILES: [&str; 10] = [
     "error.svg",
     "knowledge.pgm",
     "knowledge.yaml",
+    "bound.json",
+    "bound.png",
 ];
 
 /// Whether `name` is a file a report may hold.

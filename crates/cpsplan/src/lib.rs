@@ -29,6 +29,8 @@
 //!   positions").
 //! - [`model`] (stage 9, sections III and V-B): the registered 3D model, every scan's
 //!   points in the parent's estimated pose, and its accuracy against the walls.
+//! - [`bound`] (beyond the paper): the known-map yardstick, how few stations a
+//!   team that knew the map would need (greedy set cover and an LP lower bound).
 //!
 //! Stage numbers are those of the design notes (DESIGN.md). The CPS measurement
 //! chain (stage 7) sits below the planners in the import order because the
@@ -85,6 +87,9 @@ pub mod mission;
 
 // Stage 9.
 pub mod model;
+
+// Beyond the pipeline: the known-map yardstick.
+pub mod bound;
 
 pub use config::Config;
 pub use geom::{Cell, Point};

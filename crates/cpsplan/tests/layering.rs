@@ -7,9 +7,9 @@ use std::fs;
 use std::path::{Path, PathBuf};
 
 /// The stages, bottom first.
-const STAGES: [&str; 12] = [
+const STAGES: [&str; 13] = [
     "geom", "config", "grid", "world", "sensing", "accuracy", "parent", "children", "subgoals",
-    "motion", "mission", "model",
+    "motion", "mission", "model", "bound",
 ];
 
 /// Modules that import nothing from the crate and may be used by every stage.

@@ -3,22 +3,18 @@
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use anyhow::{anyhow, bail, Context, Result};
+use anyhow::{bail, Context, Result};
 use cpsplan::config::Scoring;
 use cpsplan::mission::{Summary, START_REGION_SHARE};
 use cpsplan::model::{build_model, ModelPoint, RegisteredModel};
-use cpsplan::world::builtin::BuiltinMap;
-use cpsplan::world::{default_start, resample_for};
-use cpsplan::{run_episode_with, Config, OccupancyGrid, Point, StopReason};
+use cpsplan::{run_episode_with, Config, StopReason};
 use indicatif::{ProgressBar, ProgressStyle};
 
-use super::{load_planning_grid, read_config, validate};
+use super::{load_truth, read_config, validate};
 use crate::cli::{ExploreArgs, ScoringArg};
 use crate::formats::cloud::{encode_las, encode_ply, encode_stations_ply};
 use crate::render::{render_step, StepView};
-use crate::report::{
-    write_atomic, write_episode_outputs, write_temp, MapSource, ReportDir, TempFile,
-};
+use crate::report::{write_atomic, write_episode_outputs, write_temp, ReportDir, TempFile};
 
 /// The file name of the figure of the step after scan `n`: `step-007.png`.
 pub fn step_figure_name(n: usize) -> String {
@@ -103,40 +99,14 @@ pub fn build_config(args: &ExploreArgs) -> Result<Config> {
     Ok(config)
 }
 
-/// Loads the ground truth at the planning resolution, with its default start.
-fn load_truth(
-    args: &ExploreArgs,
-    config: &Config,
-) -> Result<(OccupancyGrid, MapSource, Option<Point>)> {
-    match &args.map {
-        Some(path) => {
-            let truth = load_planning_grid(path, config)?;
-            Ok((truth, MapSource::File(path.clone()), None))
-        }
-        None => {
-            let map = args.builtin.unwrap_or(BuiltinMap::DEFAULT);
-            let grid = map.generate(config.seed);
-            let truth = resample_for(&grid, config)
-                .map_err(|e| anyhow!("built-in map `{}`: {e}", map.name()))?;
-            Ok((truth, MapSource::Builtin(map), Some(map.default_start())))
-        }
-    }
-}
-
 /// Runs the episode and writes its report.
 pub fn run(args: &ExploreArgs) -> Result<()> {
     let config = build_config(args)?;
     let cloud_format = args.cloud_out.as_deref().map(ModelFormat::of).transpose()?;
     // Refuses an unusable --out before the run, not after it.
     let report = ReportDir::create(&args.out)?;
-    let (truth, source, builtin_start) = load_truth(args, &config)?;
-    let start = match args.start.or(builtin_start) {
-        Some(p) => p,
-        None => match default_start(&truth) {
-            Some(p) => p,
-            None => bail!("map {} has no free cell to start from", source.label()),
-        },
-    };
+    let (truth, source, start) =
+        load_truth(args.map.as_deref(), args.builtin, args.start, &config)?;
     let bar = if args.quiet {
         ProgressBar::hidden()
     } else {

@@ -1,6 +1,7 @@
 //! The work of each subcommand, one module each; arguments are parsed in
 //! [`crate::cli`].
 
+pub mod bound;
 pub mod explore;
 pub mod grid;
 pub mod instruments;
@@ -9,12 +10,14 @@ pub mod plan;
 
 use std::path::Path;
 
-use anyhow::{anyhow, Result};
-use cpsplan::world::resample_for;
-use cpsplan::{Config, OccupancyGrid};
+use anyhow::{anyhow, bail, Result};
+use cpsplan::world::builtin::BuiltinMap;
+use cpsplan::world::{default_start, resample_for};
+use cpsplan::{Config, OccupancyGrid, Point};
 
 use crate::formats::config::{read_config_file, ConfigFile};
 use crate::formats::rosmap::{load_any_with, ReadLimits};
+use crate::report::MapSource;
 
 /// Reads a TOML configuration file, or the defaults.
 pub(crate) fn read_config(path: Option<&Path>) -> Result<ConfigFile> {
@@ -50,4 +53,36 @@ pub(crate) fn validate(config: &Config, flags: &[(&str, &str, bool)]) -> Result<
 pub(crate) fn load_planning_grid(path: &Path, config: &Config) -> Result<OccupancyGrid> {
     let grid = load_any_with(path, config.resolution, &ReadLimits::for_config(config))?;
     resample_for(&grid, config).map_err(|e| anyhow!("{}: {e}", path.display()))
+}
+
+/// Loads the ground truth at the planning resolution from `map`, or the built-in
+/// map (the default one without either), with the start: `start`, the built-in
+/// map's own, or the map's default start.
+pub(crate) fn load_truth(
+    map: Option<&Path>,
+    builtin: Option<BuiltinMap>,
+    start: Option<Point>,
+    config: &Config,
+) -> Result<(OccupancyGrid, MapSource, Point)> {
+    let (truth, source, own_start) = match map {
+        Some(path) => {
+            let truth = load_planning_grid(path, config)?;
+            (truth, MapSource::File(path.to_path_buf()), None)
+        }
+        None => {
+            let map = builtin.unwrap_or(BuiltinMap::DEFAULT);
+            let grid = map.generate(config.seed);
+            let truth = resample_for(&grid, config)
+                .map_err(|e| anyhow!("built-in map `{}`: {e}", map.name()))?;
+            (truth, MapSource::Builtin(map), Some(map.default_start()))
+        }
+    };
+    let start = match start.or(own_start) {
+        Some(p) => p,
+        None => match default_start(&truth) {
+            Some(p) => p,
+            None => bail!("map {} has no free cell to start from", source.label()),
+        },
+    };
+    Ok((truth, source, start))
 }

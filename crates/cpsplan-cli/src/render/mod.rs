@@ -13,6 +13,7 @@
 //!   score, AND regions, subgoals, every robot's path and the CPS lines of sight),
 //!   on a window of the knowledge map the step planned on.
 //! - [`render_map`]: a plain preview of an occupancy grid.
+//! - [`render_bound`]: the known-map bound's stations on the ground truth.
 //!
 //! Pictures are drawn in the grid frame (row 0 at the bottom, so north is up for an
 //! unrotated map) at an integer number of pixels per cell chosen so that the longer
@@ -22,6 +23,7 @@
 //! over missed over free over unknown), so thin walls never vanish.
 
 mod axes;
+mod bound;
 mod canvas;
 mod chart;
 mod chrome;
@@ -37,6 +39,7 @@ mod scan_labels;
 mod step;
 mod team;
 
+pub use self::bound::render_bound;
 pub use self::chart::{error_chart, Chart, Series};
 pub use self::episode::{render_episode, render_episode_large};
 pub use self::map::render_map;

@@ -250,6 +250,29 @@ pub struct Episode {
     pub knowledge: Option<OccupancyGrid>,
 }
 
+/// The cell of `start` on `truth`, which must be Free there.
+pub fn start_cell(truth: &OccupancyGrid, start: Point) -> Result<Cell, MissionError> {
+    let g = truth.geometry();
+    let cell = g.world_to_cell(start).ok_or_else(|| {
+        let (ex, ey) = g.extent();
+        MissionError::StartOutsideMap {
+            x: start.x,
+            y: start.y,
+            x0: g.origin.x,
+            x1: g.origin.x + ex,
+            y0: g.origin.y,
+            y1: g.origin.y + ey,
+        }
+    })?;
+    if truth.get(cell) != CellState::Free {
+        return Err(MissionError::StartNotFree {
+            x: start.x,
+            y: start.y,
+        });
+    }
+    Ok(cell)
+}
+
 /// Runs a whole episode on the ground truth `truth` (planning resolution already
 /// applied; anything not Free is solid) from `start`. `on_step` sees every step as
 /// it is recorded (for progress display).
@@ -274,23 +297,7 @@ pub fn run_episode_with(
     let g = *truth.geometry();
     g.check_limits(config)?;
     let truth = truth.solidified();
-    let cell = g.world_to_cell(start).ok_or_else(|| {
-        let (ex, ey) = g.extent();
-        MissionError::StartOutsideMap {
-            x: start.x,
-            y: start.y,
-            x0: g.origin.x,
-            x1: g.origin.x + ex,
-            y0: g.origin.y,
-            y1: g.origin.y + ey,
-        }
-    })?;
-    if truth.get(cell) != CellState::Free {
-        return Err(MissionError::StartNotFree {
-            x: start.x,
-            y: start.y,
-        });
-    }
+    let cell = start_cell(&truth, start)?;
     let mut knowledge = OccupancyGrid::filled(g, CellState::Unknown);
     let mut chain = Tracker::new(config, g.cell_center(cell));
     let mut tracker = CoverageTracker::new(&truth, cell, config.robot.radius, &knowledge);

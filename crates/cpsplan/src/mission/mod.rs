@@ -26,8 +26,8 @@ mod team;
 
 pub use accuracy::{PoseAccuracy, PoseEstimate, Tracker};
 pub use episode::{
-    parent_path, run_episode, run_episode_with, Episode, MissionError, Step, StopReason, Summary,
-    START_REGION_SHARE, START_REGION_SHARE_OF_MAP,
+    parent_path, run_episode, run_episode_with, start_cell, Episode, MissionError, Step,
+    StopReason, Summary, START_REGION_SHARE, START_REGION_SHARE_OF_MAP,
 };
 pub use record::{cycle_and_regions, ChildMove, CycleRecord, MoveRecord, RejectedTarget};
 pub use step::{plan_step, PlanError, StepPlan};

@@ -1,0 +1,338 @@
+//! The known-map yardstick (beyond the paper): how few scan stations a team that
+//! already knew the map would need, to measure an exploring planner against.
+//!
+//! In: the ground truth, the start, the configuration (scanner range, robot
+//! radius). Out: a [`KnownMapBound`]: the stations a greedy set cover picks to
+//! see 90 / 95 / 99 / 100 % of the coverable cells, and a lower bound on the
+//! fewest stations for each share from the LP relaxation's Lagrangian dual.
+//!
+//! - Candidate stations: drivable cells reachable from the start on a lattice
+//!   (`bound.spacing`, 1 m unless the site is large) and beside the obstacles'
+//!   convex corners ([`stations`]).
+//! - Targets: the free cells the exploring planner's coverage counts (reachable
+//!   free space, [`crate::world::CoverageTracker`]), on a sub-lattice when there
+//!   are very many; *coverable*: seen from at least one candidate.
+//! - Visibility: the scanner's own rule ([`crate::sensing::visible_cells`] on the
+//!   ground truth, within the range).
+//! - [`cover`]: lazy greedy. [`dual`]: the lower bound. Both count stations drawn
+//!   from the same candidates.
+
+mod cover;
+mod dual;
+mod stations;
+
+pub use cover::{lazy_greedy, Pick};
+pub use dual::lower_bound;
+pub use stations::{corner_stations, lattice_stations, StationOrigin};
+
+use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
+use thiserror::Error;
+
+use crate::config::{Config, ConfigError};
+use crate::geom::Point;
+use crate::grid::travel::{sweep, UNREACHED};
+use crate::grid::{CellState, OccupancyGrid, Traversability};
+use crate::mission::{start_cell, MissionError};
+use crate::sensing::visible_cells;
+use crate::world::CoverageTracker;
+
+/// The coverage shares reported.
+pub const BOUND_SHARES: [f64; 4] = [0.90, 0.95, 0.99, 1.0];
+
+/// Targets at most: beyond, they are taken on a coarser sub-lattice.
+pub const MAX_TARGETS: usize = 100_000;
+
+/// Lattice stations at most: beyond, the lattice is widened.
+pub const MAX_LATTICE_STATIONS: usize = 8_000;
+
+/// Corner stations at most: beyond, every k-th is kept.
+pub const MAX_CORNER_STATIONS: usize = 4_000;
+
+/// Subgradient steps of the lower bound per share, at most.
+pub const BOUND_ITERATIONS: usize = 150;
+
+/// Work of the lower bound per share: steps times the views' total size, at most
+/// (fewer steps on large sites).
+pub const BOUND_WORK: usize = 2_000_000_000;
+
+/// Why no bound could be computed.
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum BoundError {
+    /// A parameter is out of range.
+    #[error(transparent)]
+    Config(#[from] ConfigError),
+    /// The start is off the map or not free.
+    #[error(transparent)]
+    Start(#[from] MissionError),
+    /// A spacing is not a positive number of metres.
+    #[error("--{name} must be a positive number of metres, not {value}")]
+    Spacing {
+        /// The flag.
+        name: &'static str,
+        /// The value given.
+        value: f64,
+    },
+}
+
+/// How the bound is computed: `None` chooses from the map's size.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize)]
+pub struct BoundParams {
+    /// Spacing of the candidate lattice, metres (default 1 m, wider on large sites
+    /// so that at most [`MAX_LATTICE_STATIONS`] stations are drawn).
+    pub spacing_m: Option<f64>,
+    /// Spacing of the target cells, metres (default: every cell, or a sub-lattice
+    /// with at most [`MAX_TARGETS`] targets).
+    pub target_spacing_m: Option<f64>,
+}
+
+/// One coverage share's figures.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct BoundLevel {
+    /// Share of the coverable targets.
+    pub share: f64,
+    /// Stations the greedy cover needs for it.
+    pub greedy_stations: usize,
+    /// The dual's lower bound on the fewest stations (fractional).
+    pub lower_bound: f64,
+    /// Its ceiling: no cover from the candidates has fewer stations.
+    pub lower_bound_stations: usize,
+}
+
+/// One station of the greedy cover, in the order chosen.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct BoundStation {
+    /// Position (cell centre), world frame.
+    pub position: Point,
+    /// Lattice or corner.
+    pub origin: StationOrigin,
+    /// Targets it adds.
+    pub new_targets: usize,
+    /// The area they stand for, m².
+    pub new_m2: f64,
+    /// Share of the coverable targets seen after it.
+    pub coverage: f64,
+}
+
+/// The known-map bound of a map.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct KnownMapBound {
+    /// Scanner range, metres.
+    pub range_m: f64,
+    /// Grid resolution, metres.
+    pub resolution_m: f64,
+    /// Robot radius, metres.
+    pub robot_radius_m: f64,
+    /// The start, world frame.
+    pub start: Point,
+    /// Lattice spacing used, metres.
+    pub spacing_m: f64,
+    /// Target spacing used, metres.
+    pub target_spacing_m: f64,
+    /// Candidate stations on the lattice.
+    pub lattice_stations: usize,
+    /// Candidate stations beside corners.
+    pub corner_stations: usize,
+    /// Free cells the exploring planner's coverage counts.
+    pub reachable_free_cells: usize,
+    /// Targets (those cells on the target lattice).
+    pub targets: usize,
+    /// Targets some candidate sees.
+    pub coverable_targets: usize,
+    /// Figures for 90, 95, 99 and 100 %.
+    pub levels: Vec<BoundLevel>,
+    /// The greedy cover to 100 %, in order.
+    pub stations: Vec<BoundStation>,
+}
+
+impl KnownMapBound {
+    /// The figures for `share`, if reported.
+    pub fn level(&self, share: f64) -> Option<&BoundLevel> {
+        self.levels.iter().find(|l| (l.share - share).abs() < 1e-9)
+    }
+}
+
+/// Computes the known-map bound of `truth` (planning resolution applied; anything
+/// not Free is solid) for a team starting at `start`.
+pub fn known_map_bound(
+    truth: &OccupancyGrid,
+    start: Point,
+    config: &Config,
+    params: BoundParams,
+) -> Result<KnownMapBound, BoundError> {
+    config.validate()?;
+    let g = *truth.geometry();
+    g.check_limits(config)?;
+    for (name, v) in [
+        ("spacing", params.spacing_m),
+        ("target-spacing", params.target_spacing_m),
+    ] {
+        if let Some(v) = v {
+            if !(v.is_finite() && v > 0.0 && v <= crate::config::MAX_COORDINATE_M) {
+                return Err(BoundError::Spacing { name, value: v });
+            }
+        }
+    }
+    let truth = truth.solidified();
+    let cell = start_cell(&truth, start)?;
+    let res = g.resolution;
+    let radius = config.robot.radius;
+    // Drivable cells reachable from the start, and the free cells coverage counts.
+    let (trav_field, tracker) = rayon::join(
+        || {
+            let trav = Traversability::new(&truth, radius, cell);
+            let field = sweep(&g, &trav.passable, &[g.index(cell)], UNREACHED);
+            (0..g.len())
+                .map(|i| trav.traversable[i] && field.reached(i))
+                .collect::<Vec<bool>>()
+        },
+        || {
+            let unknown = OccupancyGrid::filled(g, CellState::Unknown);
+            CoverageTracker::new(&truth, cell, radius, &unknown)
+        },
+    );
+    let drivable = trav_field;
+    let reachable_free = tracker.free_total();
+
+    // Targets, on a sub-lattice of `stride` cells.
+    let stride = match params.target_spacing_m {
+        Some(s) => ((s / res).round() as usize).max(1),
+        None => ((reachable_free as f64 / MAX_TARGETS as f64).sqrt().ceil() as usize).max(1),
+    };
+    let mut target_of = vec![u32::MAX; g.len()];
+    let mut target_cells: Vec<usize> = Vec::new();
+    for (i, t) in target_of.iter_mut().enumerate() {
+        if (i % g.width) % stride == 0
+            && (i / g.width) % stride == 0
+            && tracker.is_reachable_free(i)
+        {
+            *t = target_cells.len() as u32;
+            target_cells.push(i);
+        }
+    }
+
+    // Candidate stations.
+    let drivable_count = drivable.iter().filter(|&&d| d).count();
+    let step = match params.spacing_m {
+        Some(s) => ((s / res).round() as usize).max(1),
+        None => {
+            let one_metre = (1.0 / res).round().max(1.0) as usize;
+            let wide = (drivable_count as f64 / MAX_LATTICE_STATIONS as f64)
+                .sqrt()
+                .ceil() as usize;
+            one_metre.max(wide)
+        }
+    };
+    let lattice = lattice_stations(&g, &drivable, step);
+    let offset = (radius / res).ceil() as usize + 1;
+    let mut corners = corner_stations(&truth, &drivable, offset);
+    if corners.len() > MAX_CORNER_STATIONS {
+        let k = corners.len().div_ceil(MAX_CORNER_STATIONS);
+        corners = corners.into_iter().step_by(k).collect();
+    }
+    let mut stations: Vec<(usize, StationOrigin)> = lattice
+        .iter()
+        .map(|&i| (i, StationOrigin::Lattice))
+        .chain(corners.iter().map(|&i| (i, StationOrigin::Corner)))
+        .collect();
+    stations.sort_by_key(|s| s.0);
+    stations.dedup_by_key(|s| s.0);
+
+    // Each station's view of the targets, by the scanner's rule.
+    let t = truth.cells();
+    let range_cells = config.range_cells();
+    let sets: Vec<Vec<u32>> = stations
+        .par_iter()
+        .map(|&(i, _)| {
+            let mut seen = Vec::new();
+            visible_cells(
+                &g,
+                g.cell(i),
+                range_cells,
+                |j| t[j] != CellState::Free,
+                |j| {
+                    if target_of[j] != u32::MAX {
+                        seen.push(target_of[j]);
+                    }
+                    false
+                },
+            );
+            seen.sort_unstable();
+            seen
+        })
+        .collect();
+    let mut coverable: Vec<u32> = Vec::new();
+    {
+        let mut hit = vec![false; target_cells.len()];
+        for s in &sets {
+            for &x in s {
+                hit[x as usize] = true;
+            }
+        }
+        coverable.extend((0..target_cells.len() as u32).filter(|&x| hit[x as usize]));
+    }
+    let n = coverable.len();
+
+    let picks = lazy_greedy(&sets, target_cells.len());
+    let nnz: usize = sets.iter().map(Vec::len).sum();
+    let iterations = (BOUND_WORK / nnz.max(1)).clamp(20, BOUND_ITERATIONS);
+    let needed = |share: f64| ((share * n as f64) - 1e-9).ceil().max(0.0) as usize;
+    let levels: Vec<BoundLevel> = BOUND_SHARES
+        .iter()
+        .map(|&share| {
+            let m = needed(share);
+            let greedy = picks
+                .iter()
+                .position(|p| p.covered >= m)
+                .map_or(picks.len(), |k| k + 1);
+            let lb = lower_bound(
+                &sets,
+                target_cells.len(),
+                &coverable,
+                m,
+                greedy,
+                iterations,
+            )
+            .min(greedy as f64);
+            BoundLevel {
+                share,
+                greedy_stations: greedy,
+                lower_bound: lb,
+                lower_bound_stations: (lb - 1e-6).ceil().max(0.0) as usize,
+            }
+        })
+        .collect();
+    let cell_m2 = (stride as f64 * res).powi(2);
+    let chosen = picks
+        .iter()
+        .map(|p| {
+            let (i, origin) = stations[p.station];
+            BoundStation {
+                position: g.cell_center(g.cell(i)),
+                origin,
+                new_targets: p.gain,
+                new_m2: p.gain as f64 * cell_m2,
+                coverage: if n == 0 {
+                    1.0
+                } else {
+                    p.covered as f64 / n as f64
+                },
+            }
+        })
+        .collect();
+    Ok(KnownMapBound {
+        range_m: config.scanner.range,
+        resolution_m: res,
+        robot_radius_m: radius,
+        start: g.cell_center(cell),
+        spacing_m: step as f64 * res,
+        target_spacing_m: stride as f64 * res,
+        lattice_stations: lattice.len(),
+        corner_stations: corners.len(),
+        reachable_free_cells: reachable_free,
+        targets: target_cells.len(),
+        coverable_targets: n,
+        levels,
+        stations: chosen,
+    })
+}
