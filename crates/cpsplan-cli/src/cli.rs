@@ -5,7 +5,7 @@ use std::path::PathBuf;
 
 use anyhow::Result;
 use clap::{Args, Parser, Subcommand, ValueEnum};
-use cpsplan::config::{ChildStrategy, InstrumentModel, Scoring};
+use cpsplan::config::{ChildStrategy, InstrumentModel, Planner, Scoring};
 use cpsplan::world::builtin::BuiltinMap;
 use cpsplan::{Config, Point};
 
@@ -198,6 +198,14 @@ pub struct PlanArgs {
           help = with_default("How the children's spots are chosen: random, balanced, angle, distance or min-error",
                               defaults().children.strategy.name()))]
     pub child_strategy: Option<ChildStrategy>,
+    /// Which planner chooses the next scan position: paper (the greedy Eq. 1)
+    /// or tour (the shortest route through the scan positions that see the
+    /// frontier).
+    #[arg(long, value_name = "PLANNER", value_parser = parse_planner,
+          help = with_default("Which planner chooses the next scan position: paper (the greedy Eq. 1) or tour \
+                               (the shortest route through the scan positions that see the frontier)",
+                              defaults().parent.planner.name()))]
+    pub planner: Option<Planner>,
     /// Also draw the planned step as a PNG figure (map, candidates, AND regions,
     /// subgoals, every robot's path) into this file.
     #[arg(long, value_name = "FILE.png")]
@@ -265,6 +273,14 @@ pub struct ExploreArgs {
                                (the spots that minimise the predicted error of the parent's next pose)",
                               defaults().children.strategy.name()))]
     pub child_strategy: Option<ChildStrategy>,
+    /// Which planner chooses the next scan position: paper (the greedy Eq. 1)
+    /// or tour (the shortest route through the scan positions that see the
+    /// frontier).
+    #[arg(long, value_name = "PLANNER", value_parser = parse_planner,
+          help = with_default("Which planner chooses the next scan position: paper (the greedy Eq. 1) or tour \
+                               (the shortest route through the scan positions that see the frontier)",
+                              defaults().parent.planner.name()))]
+    pub planner: Option<Planner>,
     /// The instrument measuring the CPS links (see `cpsplan instruments`).
     #[arg(long, value_name = "NAME", value_parser = parse_instrument,
           help = with_default("The instrument measuring the CPS links (see `cpsplan instruments`)",
@@ -457,6 +473,13 @@ fn parse_strategy(s: &str) -> Result<ChildStrategy, String> {
                 names.join(", ")
             )
         })
+}
+
+fn parse_planner(s: &str) -> Result<Planner, String> {
+    [Planner::Paper, Planner::Tour]
+        .into_iter()
+        .find(|p| p.name() == s.trim())
+        .ok_or_else(|| format!("unknown planner `{s}` (one of: paper, tour)"))
 }
 
 fn parse_scan_number(s: &str) -> Result<usize, String> {

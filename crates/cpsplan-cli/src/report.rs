@@ -191,6 +191,11 @@ struct MetricsRow {
     position_sigma_m: Option<f64>,
     heading_sigma_arcsec: Option<f64>,
     monte_carlo_error_m: Option<f64>,
+    gain_m2: f64,
+    expected_gain_m2: Option<f64>,
+    expected_s_cells: Option<usize>,
+    target_gain_m2: Option<f64>,
+    clock_h: f64,
 }
 
 /// The metrics table as CSV text, one row per scan.
@@ -219,6 +224,11 @@ pub fn metrics_csv(episode: &Episode) -> Result<Vec<u8>> {
             position_sigma_m: s.position_sigma_m,
             heading_sigma_arcsec: s.heading_sigma_arcsec,
             monte_carlo_error_m: s.monte_carlo_error_m,
+            gain_m2: s.gain_m2,
+            expected_gain_m2: s.expected_gain_m2,
+            expected_s_cells: s.expected_s_cells,
+            target_gain_m2: t.map(|c| c.gain_m2),
+            clock_h: s.clock_h,
         })?;
     }
     w.into_inner().map_err(|e| anyhow::anyhow!("{e}"))

@@ -115,11 +115,27 @@ fn explore_builtin_site_writes_every_output() {
     let s = summary(&out);
     assert!(s["coverage"].as_f64().unwrap() >= 0.99, "{s}");
     assert!(s["wall_coverage"].as_f64().unwrap() >= 0.97, "{s}");
-    assert_eq!(s["stop_reason"], "complete");
+    // The stop rule in square metres ends the episode when no position would
+    // add 0.1 % of the known free area (or when no border is left).
+    let stop = s["stop_reason"].as_str().unwrap();
+    assert!(["complete", "no_reachable_frontier"].contains(&stop), "{s}");
     let scans = s["scans"].as_u64().unwrap() as usize;
     for key in ["parent_travel_m", "seed", "wall_ms"] {
         assert!(s.get(key).is_some(), "summary lacks {key}");
     }
+    // The campaign clock: its parts add up, the scans take 3 minutes each.
+    let t = &s["campaign_time"];
+    let parts: f64 = ["scan_h", "measure_h", "drive_h"]
+        .iter()
+        .map(|k| t[k].as_f64().unwrap())
+        .sum();
+    assert!(
+        (s["campaign_time_h"].as_f64().unwrap() - parts).abs() < 1e-9,
+        "{s}"
+    );
+    assert!((t["scan_h"].as_f64().unwrap() - scans as f64 * 180.0 / 3600.0).abs() < 1e-9);
+    assert!(t["measure_h"].as_f64().unwrap() > 0.0 && t["drive_h"].as_f64().unwrap() > 0.0);
+    assert_eq!(s["planner"], "paper");
     // Two children by default: every move ran as CPS cycles, some with subgoals.
     assert_eq!(s["child_travel_m"].as_array().unwrap().len(), 2, "{s}");
     assert!(
@@ -181,6 +197,20 @@ fn explore_builtin_site_writes_every_output() {
     // metrics.csv: a header and one row per scan.
     let csv = std::fs::read_to_string(out.join("metrics.csv")).unwrap();
     assert_eq!(csv.lines().count(), scans + 1);
+    // Every scan records what it added and, after the first, what the round that
+    // chose it expected; the clock runs forward to the campaign's time.
+    let steps = ep0["steps"].as_array().unwrap();
+    let mut clock = 0.0;
+    for (k, st) in steps.iter().enumerate() {
+        let new_free = st["outcome"]["new_free"].as_f64().unwrap();
+        assert!((st["gain_m2"].as_f64().unwrap() - new_free * 0.01).abs() < 1e-9);
+        assert_eq!(st["expected_gain_m2"].is_null(), k == 0, "scan {}", k + 1);
+        assert_eq!(st["expected_s_cells"].is_null(), k == 0, "scan {}", k + 1);
+        let c = st["clock_h"].as_f64().unwrap();
+        assert!(c > clock, "scan {}: clock {c} after {clock}", k + 1);
+        clock = c;
+    }
+    assert!(clock <= s["campaign_time_h"].as_f64().unwrap() + 1e-9);
     // The knowledge map is a loadable ROS map of the same size.
     let k = cpsplan_cli::formats::rosmap::load_map(&out.join("knowledge.yaml")).unwrap();
     assert_eq!((k.width(), k.height()), (800, 600));
@@ -198,10 +228,16 @@ fn builtin_maps_are_explored_with_children() {
             .assert()
             .success();
         let s = summary(&out);
-        // Done: no border left, or only fragments below parent.min_frontier_cells.
+        // Done: no border left, only fragments below parent.min_frontier_cells,
+        // or no position that would add 0.1 % of the known free area.
         let stop = s["stop_reason"].as_str().unwrap();
         assert!(
-            ["complete", "frontier_below_threshold"].contains(&stop),
+            [
+                "complete",
+                "frontier_below_threshold",
+                "no_reachable_frontier"
+            ]
+            .contains(&stop),
             "{map}: {s}"
         );
         assert!(s["coverage"].as_f64().unwrap() >= 0.99, "{map}: {s}");
@@ -647,5 +683,93 @@ fn plan_figure_writes_a_png() {
     assert!(
         err.contains("plan.png") && !err.contains("panicked"),
         "{err}"
+    );
+}
+
+/// `cpsplan bound` on a built-in map writes its JSON and picture, with the
+/// greedy cover growing with the share and the lower bound below it.
+#[test]
+fn bound_writes_json_and_picture() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("bound");
+    let r = cpsplan()
+        .args(["bound", "--builtin", "tunnel", "--out"])
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(r.status.success());
+    assert!(String::from_utf8_lossy(&r.stdout).contains("greedy stations"));
+    let b: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("bound.json")).unwrap()).unwrap();
+    let levels = b["levels"].as_array().unwrap();
+    assert_eq!(levels.len(), 4);
+    let mut last = 0;
+    for l in levels {
+        let g = l["greedy_stations"].as_u64().unwrap();
+        assert!(g >= last, "{l}");
+        assert!(l["lower_bound_stations"].as_u64().unwrap() <= g, "{l}");
+        last = g;
+    }
+    assert_eq!(b["stations"].as_array().unwrap().len() as u64, last);
+    assert!(b["wall_ms"].as_f64().unwrap() > 0.0);
+    let png = std::fs::read(out.join("bound.png")).unwrap();
+    assert_eq!(&png[1..4], b"PNG");
+    // A start in a wall is refused with the flag named, and nothing is written.
+    let bad = tmp.path().join("bad");
+    let r = cpsplan()
+        .args(["bound", "--builtin", "tunnel", "--start", "0,0", "--out"])
+        .arg(&bad)
+        .output()
+        .unwrap();
+    assert_eq!(r.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&r.stderr);
+    assert!(
+        err.contains("--start") && !err.contains("panicked"),
+        "{err}"
+    );
+    assert!(!bad.exists());
+}
+
+/// `--planner tour` runs the same CPS cycles and records its tour.
+#[test]
+fn the_tour_planner_explores_the_office() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("tour");
+    cpsplan()
+        .args([
+            "explore",
+            "--quiet",
+            "--builtin",
+            "office",
+            "--planner",
+            "tour",
+            "--out",
+        ])
+        .arg(&out)
+        .assert()
+        .success();
+    let s = summary(&out);
+    assert_eq!(s["planner"], "tour");
+    assert!(s["coverage"].as_f64().unwrap() >= 0.99, "{s}");
+    assert!(s["cps_cycles"].as_u64().unwrap() + 1 >= s["scans"].as_u64().unwrap());
+    let episode: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("episode.json")).unwrap()).unwrap();
+    // Every move went to the tour's first stop, or (when no CPS move reached
+    // it) to a later stop, a relocated one or a fallback.
+    let mut first = 0;
+    let steps = episode["steps"].as_array().unwrap();
+    for st in steps {
+        let Some(t) = st["move"]["target"].as_u64() else {
+            continue;
+        };
+        let c = &st["plan"]["candidates"][t as usize];
+        if c["tour_rank"].as_u64() == Some(0) {
+            first += 1;
+        }
+    }
+    assert!(
+        first * 10 >= steps.len() * 8,
+        "{first} of {} moves to the first stop",
+        steps.len()
     );
 }

@@ -54,6 +54,9 @@ pub fn build_config(args: &ExploreArgs) -> Result<Config> {
     if let Some(s) = args.child_strategy {
         config.children.strategy = s;
     }
+    if let Some(p) = args.planner {
+        config.parent.planner = p;
+    }
     if let Some(m) = args.instrument {
         config.instrument.model = m;
     }
@@ -206,6 +209,15 @@ pub fn run(args: &ExploreArgs) -> Result<()> {
             crate::report::stop_label(s.stop_reason),
             wall_ms
         );
+        let t = &s.campaign_time;
+        println!(
+            "campaign time {:.1} h ({} planner): scanning {:.1} h, CPS measurements {:.1} h, driving {:.1} h",
+            s.campaign_time_h,
+            s.planner.name(),
+            t.scan_h,
+            t.measure_h,
+            t.drive_h
+        );
         if let (Some(sigma), Some(p)) = (s.final_position_sigma_m, s.error_percent_of_travel) {
             let mc = s
                 .monte_carlo_mean_error_m
@@ -335,6 +347,9 @@ pub fn coverage_warning(s: &Summary) -> Option<String> {
             )
         }
         StopReason::ScanLimit => "the scan limit ended the episode (--max-scans)".into(),
+        StopReason::DiminishingReturns => {
+            "the last scans added almost nothing (mission.stop_window, mission.stop_share)".into()
+        }
         StopReason::FrontierBelowThreshold => {
             "only border fragments below parent.min_frontier_cells were left".into()
         }

@@ -34,6 +34,9 @@ pub fn run(args: &PlanArgs) -> Result<()> {
     if let Some(s) = args.seed {
         config.seed = s;
     }
+    if let Some(p) = args.planner {
+        config.parent.planner = p;
+    }
     if let Some(s) = args.child_strategy {
         config.children.strategy = s;
     }

@@ -166,8 +166,8 @@ pub fn lower_bound(
 
 #[cfg(test)]
 mod tests {
-    use super::super::cover::lazy_greedy;
     use super::*;
+    use crate::grid::cover::lazy_greedy;
     use proptest::prelude::*;
 
     /// The fewest sets covering at least `m` targets, by brute force.

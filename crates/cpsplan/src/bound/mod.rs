@@ -14,14 +14,13 @@
 //!   are very many; *coverable*: seen from at least one candidate.
 //! - Visibility: the scanner's own rule ([`crate::sensing::visible_cells`] on the
 //!   ground truth, within the range).
-//! - [`cover`]: lazy greedy. [`dual`]: the lower bound. Both count stations drawn
+//! - [`lazy_greedy`]: the cover. [`dual`]: the lower bound. Both count stations drawn
 //!   from the same candidates.
 
-mod cover;
 mod dual;
 mod stations;
 
-pub use cover::{lazy_greedy, Pick};
+pub use crate::grid::cover::{lazy_greedy, Pick};
 pub use dual::lower_bound;
 pub use stations::{corner_stations, lattice_stations, StationOrigin};
 
@@ -160,7 +159,10 @@ pub fn known_map_bound(
     config: &Config,
     params: BoundParams,
 ) -> Result<KnownMapBound, BoundError> {
-    config.validate()?;
+    // The children play no part in the bound: their link range is not checked.
+    let mut checked = *config;
+    checked.children.count = 0;
+    checked.validate()?;
     let g = *truth.geometry();
     g.check_limits(config)?;
     for (name, v) in [
@@ -202,8 +204,8 @@ pub fn known_map_bound(
     let mut target_of = vec![u32::MAX; g.len()];
     let mut target_cells: Vec<usize> = Vec::new();
     for (i, t) in target_of.iter_mut().enumerate() {
-        if (i % g.width) % stride == 0
-            && (i / g.width) % stride == 0
+        if (i % g.width).is_multiple_of(stride)
+            && (i / g.width).is_multiple_of(stride)
             && tracker.is_reachable_free(i)
         {
             *t = target_cells.len() as u32;
@@ -285,15 +287,8 @@ pub fn known_map_bound(
                 .iter()
                 .position(|p| p.covered >= m)
                 .map_or(picks.len(), |k| k + 1);
-            let lb = lower_bound(
-                &sets,
-                target_cells.len(),
-                &coverable,
-                m,
-                greedy,
-                iterations,
-            )
-            .min(greedy as f64);
+            let lb = lower_bound(&sets, target_cells.len(), &coverable, m, greedy, iterations)
+                .min(greedy as f64);
             BoundLevel {
                 share,
                 greedy_stations: greedy,

@@ -123,6 +123,35 @@ pub const BOUNDS: &[Bound] = &[
         "cells",
         parent.min_gain_cells
     ),
+    real!("parent.min_gain_m2", 0.0, 1e8, "m²", parent.min_gain_m2),
+    count!(
+        "parent.tour_lookahead",
+        1.0,
+        1000.0,
+        "",
+        parent.tour_lookahead
+    ),
+    real!("parent.refine_step", 0.0, 100.0, "m", parent.refine_step),
+    count!(
+        "parent.calibration_window",
+        0.0,
+        1e6,
+        "",
+        parent.calibration_window
+    ),
+    real!(
+        "parent.calibration_floor",
+        1e-3,
+        2.0,
+        "",
+        parent.calibration_floor
+    ),
+    real!("time.scan_s", 0.0, 1e6, "s", time.scan_s),
+    real!("time.measure_s", 0.0, 1e5, "s", time.measure_s),
+    real!("time.speed_m_s", 1e-3, 100.0, "m/s", time.speed_m_s),
+    real!("parent.min_gain_share", 0.0, 1.0, "", parent.min_gain_share),
+    real!("parent.unknown_depth", 0.0, 1e4, "m", parent.unknown_depth),
+    real!("parent.gain_scale", 1e-6, 1e6, "", parent.gain_scale),
     count!(
         "parent.min_frontier_cells",
         1.0,
@@ -264,6 +293,14 @@ pub const BOUNDS: &[Bound] = &[
         model.range_sigma_mm
     ),
     count!("mission.max_scans", 1.0, 100_000.0, "", mission.max_scans),
+    count!(
+        "mission.stop_window",
+        0.0,
+        100_000.0,
+        "",
+        mission.stop_window
+    ),
+    real!("mission.stop_share", 0.0, 1.0, "", mission.stop_share),
     count!(
         "limits.max_grid_cells",
         1.0,

@@ -82,6 +82,30 @@ pub struct ParentConfig {
     pub kmeans_iterations: usize,
     /// A candidate must expect at least this many new cells (`S`) to be chosen.
     pub min_gain_cells: usize,
+    /// A candidate must expect at least this much new free area, m², by the
+    /// calibrated estimate (beyond the paper; `sensing::GainEstimate`).
+    pub min_gain_m2: f64,
+    /// A candidate must expect at least this share of the known free area (the
+    /// relative stop rule, beyond the paper).
+    pub min_gain_share: f64,
+    /// The gain estimate counts Unknown cells in view up to this many metres from
+    /// known free space.
+    pub unknown_depth: f64,
+    /// Free area a scan adds per m² of that count, before the episode's own
+    /// calibration (docs/RESULTS.md).
+    pub gain_scale: f64,
+    /// An episode rescales the estimate by Σ actual / Σ estimated gain of its
+    /// last this many scans (0: off).
+    pub calibration_window: usize,
+    /// The calibration never scales the estimate below this factor.
+    pub calibration_floor: f64,
+    /// Which planner chooses the next scan position.
+    pub planner: Planner,
+    /// `tour`: the next scan is chosen among this many first stops of the tour.
+    pub tour_lookahead: usize,
+    /// `tour`: the chosen position hill-climbs on the gain estimate in steps of
+    /// this many metres, then half (0: off).
+    pub refine_step: f64,
     /// Border fragments (8-connected) smaller than this many cells are ignored.
     pub min_frontier_cells: usize,
     /// Weight γ of the error term (beyond the paper, 0 = off): `G − γ·E`, where `E`
@@ -107,9 +131,74 @@ impl Default for ParentConfig {
             max_clusters: 24,
             kmeans_iterations: 30,
             min_gain_cells: 10,
+            min_gain_m2: 0.1,
+            min_gain_share: 0.001,
+            unknown_depth: 2.0,
+            gain_scale: 1.0,
+            calibration_window: 10,
+            calibration_floor: 0.2,
+            planner: Planner::Paper,
+            tour_lookahead: 3,
+            refine_step: 1.0,
             min_frontier_cells: 2,
             gamma: 0.0,
             error_candidates: 4,
+        }
+    }
+}
+
+/// How long a campaign takes (beyond the paper; defaults in docs/DESIGN-CHOICES.md
+/// "Campaign time"): scans, CPS measurements and driving, one robot moving at a
+/// time as CPS requires.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct TimeConfig {
+    /// One scan, seconds (a full-dome terrestrial scan at survey settings).
+    pub scan_s: f64,
+    /// One CPS measurement of one child from one station (search, lock, and a
+    /// few repeated distance and angle readings), seconds.
+    pub measure_s: f64,
+    /// Driving speed of every robot, metres per second.
+    pub speed_m_s: f64,
+}
+
+impl Default for TimeConfig {
+    fn default() -> Self {
+        Self {
+            scan_s: 180.0,
+            measure_s: 15.0,
+            speed_m_s: 0.5,
+        }
+    }
+}
+
+impl TimeConfig {
+    /// The parent travel whose driving takes as long as one scan when the
+    /// whole team of `children` children drives it (each robot in turn), metres.
+    pub fn scan_equivalent_m(&self, children: usize) -> f64 {
+        self.scan_s * self.speed_m_s / (1 + children) as f64
+    }
+}
+
+/// The parent's planner: where the next scan goes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Planner {
+    /// The paper's greedy Eq. (1): the candidate of highest `G`.
+    #[default]
+    Paper,
+    /// A global tour over the frontier's candidates (after FUEL, Zhou et al.,
+    /// RA-L 2021): the shortest open route from the parent through every
+    /// candidate worth a scan; the next scan is its first stop.
+    Tour,
+}
+
+impl Planner {
+    /// Its name in the configuration and on the command line.
+    pub fn name(self) -> &'static str {
+        match self {
+            Planner::Paper => "paper",
+            Planner::Tour => "tour",
         }
     }
 }
@@ -361,11 +450,21 @@ impl Default for ModelConfig {
 pub struct MissionConfig {
     /// The mission stops after this many scans.
     pub max_scans: usize,
+    /// Diminishing returns (beyond the paper): the mission stops when its last
+    /// `stop_window` scans together added less than `stop_share` of the known
+    /// free area (0: off).
+    pub stop_window: usize,
+    /// See `stop_window`.
+    pub stop_share: f64,
 }
 
 impl Default for MissionConfig {
     fn default() -> Self {
-        Self { max_scans: 1000 }
+        Self {
+            max_scans: 1000,
+            stop_window: 0,
+            stop_share: 0.002,
+        }
     }
 }
 
@@ -414,6 +513,8 @@ pub struct Config {
     pub accuracy: AccuracyConfig,
     /// The registered 3D model.
     pub model: ModelConfig,
+    /// The campaign's time model.
+    pub time: TimeConfig,
     /// Size limits.
     pub limits: LimitsConfig,
 }
@@ -431,6 +532,7 @@ impl Default for Config {
             instrument: InstrumentConfig::default(),
             accuracy: AccuracyConfig::default(),
             model: ModelConfig::default(),
+            time: TimeConfig::default(),
             limits: LimitsConfig::default(),
         }
     }

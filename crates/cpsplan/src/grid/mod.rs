@@ -17,9 +17,11 @@
 //! - [`mod@line`]: the supercover of a straight segment.
 //! - [`path`]: string pulling and drivable shortcut paths.
 //! - [`region`]: 4-connected regions (flood fill, labelling).
+//! - [`cover`]: greedy set cover with lazy evaluation.
 //! - [`traversability`]: clearances and drivable cells of a robot.
 //! - [`terrain`]: drivable cells with their connected regions.
 
+pub mod cover;
 pub mod distance;
 pub mod line;
 pub mod occupancy;

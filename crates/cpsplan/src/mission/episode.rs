@@ -8,9 +8,11 @@ use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
 use super::accuracy::{PoseEstimate, Tracker};
+use super::calibration::GainCalibration;
+use super::clock::{CampaignTime, Clock};
 use super::record::MoveRecord;
 use super::team;
-use crate::config::{number, Config, ConfigError};
+use crate::config::{number, Config, ConfigError, Planner};
 use crate::geom::{Cell, Point};
 use crate::grid::{CellState, OccupancyGrid};
 use crate::parent::{Decision, ParentPlan};
@@ -69,6 +71,9 @@ pub enum StopReason {
     NoReachableFrontier,
     /// `mission.max_scans` was reached.
     ScanLimit,
+    /// The last `mission.stop_window` scans together added less than
+    /// `mission.stop_share` of the known free area (beyond the paper).
+    DiminishingReturns,
     /// Targets remain, but none can be reached by CPS cycles (no usable AND region
     /// even with subgoals).
     NoCpsMove,
@@ -90,11 +95,12 @@ pub const START_REGION_SHARE_OF_MAP: f64 = 0.01;
 
 impl StopReason {
     /// Every stop reason.
-    pub const ALL: [StopReason; 6] = [
+    pub const ALL: [StopReason; 7] = [
         StopReason::Complete,
         StopReason::FrontierBelowThreshold,
         StopReason::NoReachableFrontier,
         StopReason::ScanLimit,
+        StopReason::DiminishingReturns,
         StopReason::NoCpsMove,
         StopReason::StartRegionTooSmall,
     ];
@@ -106,6 +112,7 @@ impl StopReason {
             StopReason::FrontierBelowThreshold => "frontier_below_threshold",
             StopReason::NoReachableFrontier => "no_reachable_frontier",
             StopReason::ScanLimit => "scan_limit",
+            StopReason::DiminishingReturns => "diminishing_returns",
             StopReason::NoCpsMove => "no_cps_move",
             StopReason::StartRegionTooSmall => "start_region_too_small",
         }
@@ -118,6 +125,7 @@ impl StopReason {
             StopReason::FrontierBelowThreshold => "frontier below threshold",
             StopReason::NoReachableFrontier => "no reachable frontier",
             StopReason::ScanLimit => "scan limit",
+            StopReason::DiminishingReturns => "diminishing returns",
             StopReason::NoCpsMove => "no CPS move",
             StopReason::StartRegionTooSmall => "start region too small",
         }
@@ -139,6 +147,23 @@ pub struct Step {
     pub coverage: f64,
     /// Wall coverage after the scan.
     pub wall_coverage: f64,
+    /// The free area the scan added, m² (`outcome.new_free` cells).
+    #[serde(default)]
+    pub gain_m2: f64,
+    /// The gain estimate of the round that chose this position, m²
+    /// (`sensing::GainEstimate`; `None` for the first scan).
+    #[serde(default)]
+    pub expected_gain_m2: Option<f64>,
+    /// That round's `S` of Eq. (1) for this position, cells.
+    #[serde(default)]
+    pub expected_s_cells: Option<usize>,
+    /// The gain estimate's scale in the round after this scan: `parent.gain_scale`
+    /// times the episode's calibration (`mission::GainCalibration`).
+    #[serde(default)]
+    pub gain_scale: f64,
+    /// The campaign clock when this scan ends, hours (`config.time`).
+    #[serde(default)]
+    pub clock_h: f64,
     /// Parent travel so far, metres.
     pub parent_travel_m: f64,
     /// The planning round after the scan.
@@ -232,6 +257,15 @@ pub struct Summary {
     pub monte_carlo_runs: usize,
     /// The Monte Carlo mean radial error of the last scan position, metres.
     pub monte_carlo_mean_error_m: Option<f64>,
+    /// The campaign's time by the time model (`config.time`), hours.
+    #[serde(default)]
+    pub campaign_time_h: f64,
+    /// Its parts: scanning, CPS measurements, driving.
+    #[serde(default)]
+    pub campaign_time: CampaignTime,
+    /// The planner that chose the scan positions.
+    #[serde(default)]
+    pub planner: Planner,
 }
 
 /// A whole simulated episode.
@@ -308,15 +342,42 @@ pub fn run_episode_with(
     let mut child_travel = vec![0.0; config.children.count];
     let (mut cycles, mut retrievals) = (0usize, 0usize);
     let mut steps: Vec<Step> = Vec::new();
+    let mut clock = Clock::new(config.time, config.children.count);
+    let mut expected: Option<(f64, usize)> = None;
+    let mut calibration = GainCalibration::new(
+        config.parent.calibration_window,
+        config.parent.calibration_floor,
+    );
+    let cell_m2 = g.resolution * g.resolution;
     let stop_reason = loop {
         let outcome = scan(&truth, &mut knowledge, here, config.range_cells(), |i| {
             tracker.note_seen(i)
         });
+        clock.scan();
         if steps.is_empty() && config.children.count > 0 {
             children = team::initial_children(&knowledge, here, config);
         }
-        let (mut plan, reach, groundwork) = team::plan_round(&knowledge, here, config, &mut rng);
+        let gain_m2 = outcome.new_free as f64 * cell_m2;
+        if let Some((e, _)) = expected {
+            calibration.record(e, gain_m2);
+        }
+        let mut round = *config;
+        round.parent.gain_scale *= calibration.factor();
+        let (mut plan, reach, groundwork) = team::plan_round(&knowledge, here, &round, &mut rng);
         let at_limit = steps.len() + 1 >= config.mission.max_scans;
+        // Diminishing returns: what the last scans added against the known area.
+        let window = config.mission.stop_window;
+        let known_free = knowledge.count(CellState::Free) as f64 * cell_m2;
+        let recent: f64 = gain_m2
+            + steps
+                .iter()
+                .rev()
+                .take(window.saturating_sub(1))
+                .map(|s| s.gain_m2)
+                .sum::<f64>();
+        let diminishing = window > 0
+            && steps.len() + 1 >= window
+            && recent < config.mission.stop_share * known_free;
         let (movement, moved) = match plan.decision {
             Decision::Target { index } => {
                 if config.children.count == 0 {
@@ -337,14 +398,14 @@ pub fn run_episode_with(
                         children: &children,
                         chain: chain.chain(),
                     };
-                    team::execute_move(&knowledge, team, &mut plan, reach, groundwork, config)
+                    team::execute_move(&knowledge, team, &mut plan, reach, groundwork, &round)
                 }
             }
             _ => (MoveRecord::default(), None),
         };
         let accuracy = chain.current();
         let (mut movement, moved) = (movement, moved);
-        let executes = !at_limit && moved.is_some();
+        let executes = !at_limit && !diminishing && moved.is_some();
         chain.follow(&mut movement, executes);
         let step = Step {
             scan: steps.len() + 1,
@@ -353,6 +414,11 @@ pub fn run_episode_with(
             outcome,
             coverage: tracker.coverage(),
             wall_coverage: tracker.wall_coverage(),
+            gain_m2,
+            gain_scale: round.parent.gain_scale,
+            expected_gain_m2: expected.map(|e| e.0),
+            expected_s_cells: expected.map(|e| e.1),
+            clock_h: clock.time().total_h(),
             parent_travel_m: travel,
             children: children.iter().map(|&c| g.cell_center(c)).collect(),
             position_sigma_m: accuracy.map(|a| a.position_sigma_m),
@@ -365,7 +431,7 @@ pub fn run_episode_with(
         };
         on_step(&step, &knowledge);
         let decision = step.plan.decision;
-        if !at_limit {
+        if !at_limit && !diminishing {
             cycles += step.movement.cycles.len();
             retrievals += usize::from(step.movement.subgoal_retrieval);
         }
@@ -375,8 +441,18 @@ pub fn run_episode_with(
             (Decision::FrontierBelowThreshold, _) => break StopReason::FrontierBelowThreshold,
             (Decision::NoReachableFrontier, _) => break StopReason::NoReachableFrontier,
             (Decision::Target { .. }, _) if at_limit => break StopReason::ScanLimit,
+            (Decision::Target { .. }, _) if diminishing => break StopReason::DiminishingReturns,
             (Decision::Target { .. }, None) => break StopReason::NoCpsMove,
             (Decision::Target { .. }, Some(moved)) => {
+                let last = steps.last();
+                expected = last
+                    .and_then(|s| s.movement.target.and_then(|t| s.plan.candidates.get(t)))
+                    .map(|c| (c.gain_m2, c.s_cells));
+                let cycles = last.map_or(0, |s| s.movement.cycles.len());
+                clock.moved(
+                    cycles,
+                    moved.parent_length + moved.child_lengths.iter().sum::<f64>(),
+                );
                 here = moved.parent;
                 travel += moved.parent_length;
                 if !moved.children.is_empty() {
@@ -437,6 +513,9 @@ pub fn run_episode_with(
             .map(|s| 100.0 * s / travel),
         monte_carlo_runs: if mc.is_some() { runs } else { 0 },
         monte_carlo_mean_error_m: mc.as_ref().and_then(|e| e.last().copied()),
+        campaign_time_h: clock.time().total_h(),
+        campaign_time: clock.time(),
+        planner: config.parent.planner,
     };
     Ok(Episode {
         config: *config,

@@ -17,14 +17,20 @@
 //! - `step`: [`plan_step`].
 //! - `team`: the CPS part of a step ([`Groundwork`], [`execute_move`]).
 //! - `record`: [`MoveRecord`] and the cycle records.
+//! - `calibration`: the gain estimate's online calibration ([`GainCalibration`]).
+//! - `clock`: the campaign's time ([`Clock`], [`CampaignTime`]).
 
 mod accuracy;
+mod calibration;
+mod clock;
 mod episode;
 mod record;
 mod step;
 mod team;
 
 pub use accuracy::{PoseAccuracy, PoseEstimate, Tracker};
+pub use calibration::{GainCalibration, CALIBRATION_MAX, CALIBRATION_MIN_SCANS};
+pub use clock::{CampaignTime, Clock};
 pub use episode::{
     parent_path, run_episode, run_episode_with, start_cell, Episode, MissionError, Step,
     StopReason, Summary, START_REGION_SHARE, START_REGION_SHARE_OF_MAP,

@@ -185,7 +185,7 @@ pub fn execute_move(
         roads,
     } = groundwork
         .unwrap_or_else(|| Groundwork::new(knowledge, here, config.robot.radius, &params));
-    let ParentReach { trav, field } = reach;
+    let ParentReach { trav, field, gain } = reach;
     let parent_terrain = Terrain::from_sweep(trav, &field);
     // The random choices of the step's placements follow the seed and the state.
     let seed =
@@ -201,10 +201,13 @@ pub fn execute_move(
     let mut order: Vec<usize> = (0..plan.candidates.len())
         .filter(|&i| plan.candidates[i].eligible)
         .collect();
+    // The tour's stops in its order first, then the rest by decreasing G.
     order.sort_by(|&a, &b| {
-        plan.candidates[b]
-            .g
-            .total_cmp(&plan.candidates[a].g)
+        let (ca, cb) = (&plan.candidates[a], &plan.candidates[b]);
+        let rank = |c: &crate::parent::Candidate| c.tour_rank.unwrap_or(usize::MAX);
+        rank(ca)
+            .cmp(&rank(cb))
+            .then(cb.g.total_cmp(&ca.g))
             .then(a.cmp(&b))
     });
     let mut record = MoveRecord::default();
@@ -264,7 +267,13 @@ pub fn execute_move(
     }
     for &index in order.iter().take(RELOCATE_CANDIDATES) {
         let terrain = maps.parent_terrain();
-        for cell in relocations(knowledge, terrain, plan.candidates[index].cell, config) {
+        for cell in relocations(
+            knowledge,
+            terrain,
+            plan.candidates[index].cell,
+            config,
+            &gain,
+        ) {
             if let Ok(m) = step.plan_move(here, cell, children) {
                 let c = relocated_candidate(
                     knowledge,
@@ -273,6 +282,7 @@ pub fn execute_move(
                     &terrain.trav,
                     &field,
                     config,
+                    &gain,
                 );
                 plan.candidates.push(c);
                 let new = plan.candidates.len() - 1;
@@ -282,12 +292,19 @@ pub fn execute_move(
     }
     // Last, other reachable frontier cells, nearest first.
     let terrain = maps.parent_terrain();
-    for cell in reachable_frontier(knowledge, &terrain.trav, &field, config, CPS_FALLBACK_TRIES) {
+    for cell in reachable_frontier(
+        knowledge,
+        &terrain.trav,
+        &field,
+        config,
+        &gain,
+        CPS_FALLBACK_TRIES,
+    ) {
         if plan.candidates.iter().any(|c| c.cell == cell) {
             continue;
         }
         if let Ok(m) = step.plan_move(here, cell, children) {
-            let c = fallback_candidate(knowledge, cell, &terrain.trav, &field, config);
+            let c = fallback_candidate(knowledge, cell, &terrain.trav, &field, config, &gain);
             plan.candidates.push(c);
             let new = plan.candidates.len() - 1;
             return finish(&step, record, new, cell, children, &m);

@@ -10,6 +10,7 @@ use super::score::Terms;
 use crate::config::Config;
 use crate::geom::{Cell, Point};
 use crate::grid::{DistanceField, GridGeometry, Traversability};
+use crate::sensing::Gain;
 
 /// How a candidate was obtained.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
@@ -49,9 +50,23 @@ pub struct Candidate {
     pub l_m: Option<f64>,
     /// `S` of Eq. (1): expected newly scanned cells (0 when `R = 0`).
     pub s_cells: usize,
+    /// The calibrated estimate of the free area a scan here adds, m² (beyond the
+    /// paper, `sensing::GainEstimate`; 0 when `R = 0`).
+    #[serde(default)]
+    pub gain_m2: f64,
+    /// With `--planner tour`: the candidate's place on the round's tour (0: the
+    /// next scan); `None` off the tour.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub tour_rank: Option<usize>,
+    /// With `--planner tour`: the position was moved from the cluster's to where
+    /// the gain estimate is higher (`parent.refine_step`).
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub refined: bool,
     /// `G` of Eq. (1).
     pub g: f64,
-    /// `R = 1` and `S ≥ min_gain_cells`: may be chosen.
+    /// `R = 1` and worth a scan (`S ≥ min_gain_cells`, the estimated area at
+    /// least `min_gain_m2` and `min_gain_share` of the known free area): may be
+    /// chosen.
     pub eligible: bool,
     /// With the error term (`parent.gamma > 0`): how much the predicted radial σ
     /// of the parent's position grows on the CPS move to this candidate, metres
@@ -79,10 +94,19 @@ pub(super) fn new_candidate(
         clearance_m: 0.0,
         l_m: None,
         s_cells: 0,
+        gain_m2: 0.0,
+        tour_rank: None,
+        refined: false,
         g: 0.0,
         eligible: false,
         error_growth_m: None,
     }
+}
+
+/// Sets `S` and the area estimate from a gain.
+pub(super) fn set_gain(c: &mut Candidate, gain: &Gain) {
+    c.s_cells = gain.s_cells;
+    c.gain_m2 = gain.m2;
 }
 
 /// The raw Eq. (1) terms of a candidate whose `s_cells` is already known.

@@ -10,21 +10,24 @@ use std::collections::HashMap;
 
 use super::band::band;
 use super::border::{border_cells, significant_border};
-use super::candidate::{candidate_terms, fill_terms, new_candidate, Candidate, CandidateOrigin};
+use super::candidate::{
+    candidate_terms, fill_terms, new_candidate, set_gain, Candidate, CandidateOrigin,
+};
 use crate::config::Config;
 use crate::geom::Cell;
 use crate::grid::{DistanceField, OccupancyGrid, Traversability};
-use crate::sensing::expected_gain;
+use crate::sensing::GainEstimate;
 
 /// Reachable, traversable cells of `band_cells`, one per square metre (the nearest
-/// by travel), nearest first, that expect at least `min_gain_cells` new cells
-/// (each tested when the iterator reaches it).
+/// by travel), nearest first, that are worth a scan by `gain` (each tested when
+/// the iterator reaches it).
 pub fn frontier_cells<'a>(
     knowledge: &'a OccupancyGrid,
     band_cells: &[usize],
     trav: &Traversability,
     field: &DistanceField,
     config: &'a Config,
+    gain: &'a GainEstimate,
 ) -> impl Iterator<Item = Cell> + 'a {
     let g = knowledge.geometry();
     let block = (1.0 / g.resolution).round().max(1.0) as usize;
@@ -42,10 +45,9 @@ pub fn frontier_cells<'a>(
     }
     let mut order: Vec<usize> = best.into_values().collect();
     order.sort_unstable_by_key(|&i| (field.cost[i], i));
-    let need = config.parent.min_gain_cells;
     order
         .into_iter()
-        .filter(move |&i| expected_gain(knowledge, g.cell(i), config.range_cells(), need) >= need)
+        .filter(move |&i| gain.worth_a_scan(&gain.at(knowledge, g.cell(i), config.range_cells())))
         .map(move |i| g.cell(i))
 }
 
@@ -56,6 +58,7 @@ pub fn reachable_frontier(
     trav: &Traversability,
     field: &DistanceField,
     config: &Config,
+    gain: &GainEstimate,
     limit: usize,
 ) -> Vec<Cell> {
     let g = knowledge.geometry();
@@ -65,7 +68,7 @@ pub fn reachable_frontier(
         return Vec::new();
     }
     let (band_cells, _) = band(knowledge, &border, pc.band_width);
-    frontier_cells(knowledge, &band_cells, trav, field, config)
+    frontier_cells(knowledge, &band_cells, trav, field, config, gain)
         .take(limit)
         .collect()
 }
@@ -84,12 +87,14 @@ pub fn fallback_candidate(
     trav: &Traversability,
     field: &DistanceField,
     config: &Config,
+    gain: &GainEstimate,
 ) -> Candidate {
     let g = *knowledge.geometry();
     let mut c = new_candidate(cell, g.cell_center(cell), CandidateOrigin::Fallback, 0, &g);
-    c.s_cells = expected_gain(knowledge, cell, config.range_cells(), usize::MAX);
+    let expected = gain.at(knowledge, cell, config.range_cells());
+    set_gain(&mut c, &expected);
     let t = candidate_terms(&c, &g, trav, field, config);
     fill_terms(&mut c, t);
-    c.eligible = c.r == 1 && c.s_cells >= config.parent.min_gain_cells;
+    c.eligible = c.r == 1 && gain.worth_a_scan(&expected);
     c
 }

@@ -14,6 +14,8 @@
 //! - [`relocations`], [`relocated_candidate`]: targets near a candidate that no CPS
 //!   move reaches, and [`reachable_frontier`]: other reachable frontier cells
 //!   (beyond the paper).
+//! - [`open_tour`], [`covering_candidates`], [`travel_matrix`]: the tour planner
+//!   (`--planner tour`, beyond the paper).
 
 mod band;
 mod border;
@@ -24,6 +26,7 @@ mod planner;
 mod relocation;
 mod samples;
 mod score;
+mod tour;
 
 pub use band::band;
 pub use border::{border_cells, significant_border};
@@ -37,3 +40,4 @@ pub use relocation::{
 };
 pub use samples::{band_area, cluster_count, scatter};
 pub use score::{evaluate, Terms};
+pub use tour::{covering_candidates, open_tour, travel_matrix};

@@ -20,17 +20,20 @@ use serde::{Deserialize, Serialize};
 
 use super::band::band;
 use super::border::{border_cells, significant_border};
-use super::candidate::{candidate_terms, fill_terms, new_candidate, Candidate, CandidateOrigin};
+use super::candidate::{
+    candidate_terms, fill_terms, new_candidate, set_gain, Candidate, CandidateOrigin,
+};
 use super::fallback::frontier_cells;
 use super::kmeans::kmeans;
 use super::samples::{band_area, cluster_count, scatter};
 use super::score::{evaluate, Terms};
-use crate::config::Config;
+use super::tour::TourRound;
+use crate::config::{Config, Planner};
 use crate::geom::{polyline_length, Cell, Point};
 use crate::grid::path::{shortcut_path, to_world};
 use crate::grid::travel::sweep;
 use crate::grid::{DistanceField, OccupancyGrid, Traversability, UNREACHED};
-use crate::sensing::expected_gain;
+use crate::sensing::{Gain, GainEstimate};
 
 /// What the planner decided.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
@@ -102,6 +105,8 @@ pub struct ParentReach {
     pub trav: Traversability,
     /// Travel distances from the parent.
     pub field: DistanceField,
+    /// The round's gain estimate and stop rule.
+    pub gain: GainEstimate,
 }
 
 /// [`plan_parent`], also returning the parent's [`ParentReach`].
@@ -117,11 +122,14 @@ pub fn plan_parent_with_reach(
     // Steps 1–3 (border, band, samples, k-means: the only users of `rng`) do not
     // depend on the drivable cells and travel distances from the parent: both run
     // at once.
-    let ((trav, field), (border, stages)) = rayon::join(
+    let ((trav, field, gain), (border, stages)) = rayon::join(
         || {
-            let trav = Traversability::new(knowledge, config.robot.radius, parent);
+            let (trav, gain) = rayon::join(
+                || Traversability::new(knowledge, config.robot.radius, parent),
+                || GainEstimate::new(knowledge, config),
+            );
             let field = sweep(&g, &trav.passable, &[g.index(parent)], UNREACHED);
-            (trav, field)
+            (trav, field, gain)
         },
         || {
             let all = border_cells(knowledge);
@@ -155,7 +163,7 @@ pub fn plan_parent_with_reach(
             if fragments > 0 {
                 plan.decision = Decision::FrontierBelowThreshold;
             }
-            return (plan, ParentReach { trav, field });
+            return (plan, ParentReach { trav, field, gain });
         }
     };
     plan.band_cells = band_cells.len();
@@ -201,34 +209,48 @@ pub fn plan_parent_with_reach(
             &g,
         ));
     }
-    // Terms of Eq. (1), S in parallel.
+    // Terms of Eq. (1), S and the gain estimate in parallel (with the tour, also
+    // the frontier cells each candidate would see).
+    let tour = pc.planner == Planner::Tour && u32::try_from(g.len()).is_ok();
     let terms = |c: &Candidate| candidate_terms(c, &g, &trav, &field, config);
-    let gains: Vec<usize> = plan
-        .candidates
-        .par_iter()
-        .map(|c| {
-            if valid(g.index(c.cell)) {
-                expected_gain(knowledge, c.cell, range_cells, usize::MAX)
-            } else {
-                0
+    let none = Gain {
+        s_cells: 0,
+        near_cells: 0,
+        m2: 0.0,
+    };
+    let view = |cell: Cell| -> (Gain, Vec<u32>) {
+        if !valid(g.index(cell)) {
+            return (none, Vec::new());
+        }
+        let mut cells = Vec::new();
+        let gain = gain.view(knowledge, cell, range_cells, |i| {
+            if tour {
+                cells.push(i as u32);
             }
-        })
-        .collect();
-    for (c, s) in plan.candidates.iter_mut().zip(gains) {
-        c.s_cells = s;
+        });
+        cells.sort_unstable();
+        (gain, cells)
+    };
+    let (gains, mut views): (Vec<Gain>, Vec<Vec<u32>>) =
+        plan.candidates.par_iter().map(|c| view(c.cell)).unzip();
+    let mut worth: Vec<bool> = Vec::with_capacity(plan.candidates.len());
+    for (c, s) in plan.candidates.iter_mut().zip(&gains) {
+        set_gain(c, s);
         let t = terms(c);
         fill_terms(c, t);
+        worth.push(c.r == 1 && gain.worth_a_scan(s));
     }
-    if !plan
-        .candidates
-        .iter()
-        .any(|c| c.r == 1 && c.s_cells >= pc.min_gain_cells)
-    {
-        if let Some(cell) = frontier_cells(knowledge, &band_cells, &trav, &field, config).next() {
+    if !worth.iter().any(|&w| w) {
+        if let Some(cell) =
+            frontier_cells(knowledge, &band_cells, &trav, &field, config, &gain).next()
+        {
             let mut c = new_candidate(cell, g.cell_center(cell), CandidateOrigin::Fallback, 0, &g);
-            c.s_cells = expected_gain(knowledge, cell, range_cells, usize::MAX);
+            let (s, cells) = view(cell);
+            set_gain(&mut c, &s);
             let t = terms(&c);
             fill_terms(&mut c, t);
+            worth.push(c.r == 1 && gain.worth_a_scan(&s));
+            views.push(cells);
             plan.candidates.push(c);
         }
     }
@@ -236,11 +258,29 @@ pub fn plan_parent_with_reach(
     let all_terms: Vec<Terms> = plan.candidates.iter().map(terms).collect();
     let scores = evaluate(&all_terms, pc.alpha, pc.beta, pc.scoring, g.resolution);
     let mut best: Option<(usize, f64)> = None;
-    for (i, (c, gv)) in plan.candidates.iter_mut().zip(scores).enumerate() {
+    for (i, ((c, gv), &w)) in plan
+        .candidates
+        .iter_mut()
+        .zip(scores)
+        .zip(&worth)
+        .enumerate()
+    {
         c.g = gv;
-        c.eligible = c.r == 1 && c.s_cells >= pc.min_gain_cells;
+        c.eligible = w;
         if c.eligible && best.is_none_or(|(_, b)| gv > b) {
             best = Some((i, gv));
+        }
+    }
+    if tour {
+        let round = TourRound {
+            knowledge,
+            trav: &trav,
+            field: &field,
+            gain: &gain,
+            config,
+        };
+        if let Some(first) = round.target(&mut plan.candidates, &views) {
+            best = Some((first, plan.candidates[first].g));
         }
     }
     match best {
@@ -254,5 +294,5 @@ pub fn plan_parent_with_reach(
             }
         }
     }
-    (plan, ParentReach { trav, field })
+    (plan, ParentReach { trav, field, gain })
 }

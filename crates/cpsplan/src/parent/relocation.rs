@@ -6,11 +6,13 @@
 //! ([`relocations`]) and the candidate that stands in for the original
 //! ([`relocated_candidate`]).
 
-use super::candidate::{candidate_terms, fill_terms, new_candidate, Candidate, CandidateOrigin};
+use super::candidate::{
+    candidate_terms, fill_terms, new_candidate, set_gain, Candidate, CandidateOrigin,
+};
 use crate::config::Config;
 use crate::geom::Cell;
 use crate::grid::{DistanceField, OccupancyGrid, Terrain, Traversability};
-use crate::sensing::expected_gain;
+use crate::sensing::GainEstimate;
 
 /// How far from a candidate no CPS move can reach a relocated target may lie,
 /// metres.
@@ -34,6 +36,7 @@ pub fn relocated_candidate(
     trav: &Traversability,
     field: &DistanceField,
     config: &Config,
+    gain: &GainEstimate,
 ) -> Candidate {
     let g = *knowledge.geometry();
     let mut c = new_candidate(
@@ -43,28 +46,31 @@ pub fn relocated_candidate(
         original.cluster_size,
         &g,
     );
-    c.s_cells = expected_gain(knowledge, cell, config.range_cells(), usize::MAX);
+    let expected = gain.at(knowledge, cell, config.range_cells());
+    set_gain(&mut c, &expected);
     let t = candidate_terms(&c, &g, trav, field, config);
     fill_terms(&mut c, t);
     c.g = original.g;
-    c.eligible = c.r == 1 && c.s_cells >= config.parent.min_gain_cells;
+    c.tour_rank = original.tour_rank;
+    c.eligible = c.r == 1 && gain.worth_a_scan(&expected);
     c
 }
 
 /// Cells to try instead of `candidate`: drivable for the parent and reachable
 /// from where it stands (on the parent's `terrain`), on a lattice of [`RELOCATE_SPACING_M`] within
-/// [`RELOCATE_RADIUS_M`], expecting at least `min_gain_cells` new cells; the
-/// [`RELOCATE_TRIES`] with the largest expected gain (ties: nearest first).
+/// [`RELOCATE_RADIUS_M`], worth a scan by `gain`; the [`RELOCATE_TRIES`] with
+/// the largest expected gain (ties: nearest first).
 pub fn relocations(
     knowledge: &OccupancyGrid,
     terrain: &Terrain,
     candidate: Cell,
     config: &Config,
+    gain: &GainEstimate,
 ) -> Vec<Cell> {
     let g = knowledge.geometry();
     let step = (RELOCATE_SPACING_M / g.resolution).round().max(1.0) as i64;
     let reach = (RELOCATE_RADIUS_M / g.resolution).floor() as i64;
-    let mut found: Vec<(usize, i64, Cell)> = Vec::new();
+    let mut found: Vec<(f64, i64, Cell)> = Vec::new();
     for dy in (-reach..=reach).step_by(step as usize) {
         for dx in (-reach..=reach).step_by(step as usize) {
             let d2 = dx * dx + dy * dy;
@@ -80,14 +86,13 @@ pub fn relocations(
             if !terrain.trav.traversable[i] || terrain.region_of(i).is_none() {
                 continue;
             }
-            let need = config.parent.min_gain_cells;
-            let s = expected_gain(knowledge, cell, config.range_cells(), usize::MAX);
-            if s >= need {
-                found.push((s, d2, cell));
+            let expected = gain.at(knowledge, cell, config.range_cells());
+            if gain.worth_a_scan(&expected) {
+                found.push((expected.s_cells as f64, d2, cell));
             }
         }
     }
-    found.sort_by(|a, b| b.0.cmp(&a.0).then(a.1.cmp(&b.1)).then(a.2.cmp(&b.2)));
+    found.sort_by(|a, b| b.0.total_cmp(&a.0).then(a.1.cmp(&b.1)).then(a.2.cmp(&b.2)));
     found
         .into_iter()
         .take(RELOCATE_TRIES)

@@ -14,11 +14,13 @@
 //! sight may not touch a non-Free cell's square or come nearer to it than the
 //! sight clearance ([`sight_clear`]).
 
+mod gain;
 mod scanner;
 mod shadowcast;
 mod sight;
 mod view;
 
+pub use gain::{Gain, GainEstimate};
 pub use scanner::{expected_gain, scan, seen_walls, ScanOutcome};
 pub use shadowcast::visible_cells;
 pub use sight::{sight_clear, LinkRule, SightField};

@@ -1,0 +1,351 @@
+//! The tour planner (beyond the paper, after FUEL: Zhou et al., "FUEL: Fast
+//! UAV Exploration using Incremental Frontier Structure and Hierarchical
+//! Planning", RA-L 2021): instead of the single best candidate by Eq. (1), the
+//! scan positions that together see the frontier, visited along the shortest
+//! open route from the parent; the next scan is the route's first stop.
+//!
+//! In: the round's candidates with the frontier cells each would see (the cells
+//! of its gain estimate), the parent's travel field. Out: the candidates on the
+//! tour in visiting order.
+//!
+//! - *Which*: a greedy set cover over the candidates' views of the frontier
+//!   (lazy greedy), each pick adding at least the estimate's threshold: one scan
+//!   per part of the frontier, not one per k-means cluster.
+//! - *Order*: an open travelling-salesman path from the parent (nearest
+//!   neighbour, then 2-opt and Or-opt). Travel between two candidates is the
+//!   straight line where it is drivable, else the route through the parent's
+//!   shortest-path tree (exact where the free space branches like a tree, as
+//!   offices do; never shorter than the true route).
+//! - *Local choice* (TARE's local planning, Cao et al., RSS 2021, in small):
+//!   among the tour's first `parent.tour_lookahead` stops, the one with the most
+//!   expected area per scan time and travel is taken first.
+//! - *Refinement*: the chosen position hill-climbs on the gain estimate, so the
+//!   scan stands where it sees most, not where the k-means centroid fell.
+
+use super::candidate::{candidate_terms, fill_terms, set_gain, Candidate};
+use crate::config::Config;
+use crate::geom::Cell;
+use crate::grid::cover::lazy_greedy;
+use crate::grid::line::segment_clear;
+use crate::grid::travel::{descend, STRAIGHT};
+use crate::grid::{DistanceField, GridGeometry, OccupancyGrid, Traversability};
+use crate::sensing::GainEstimate;
+
+/// What a planning round knows that the tour needs.
+pub(super) struct TourRound<'a> {
+    pub knowledge: &'a OccupancyGrid,
+    pub trav: &'a Traversability,
+    pub field: &'a DistanceField,
+    pub gain: &'a GainEstimate,
+    pub config: &'a Config,
+}
+
+impl TourRound<'_> {
+    /// Puts the covering candidates among the eligible ones on a tour (their
+    /// `tour_rank`), chooses the next scan among its first
+    /// `parent.tour_lookahead` stops by expected area per travel (a scan's
+    /// duration counted as the travel it would buy,
+    /// [`crate::config::TimeConfig::scan_equivalent_m`]), moves that stop to
+    /// the front and refines its position; returns its index. `views[i]`:
+    /// the frontier cells candidate `i` would see, sorted.
+    pub fn target(&self, candidates: &mut [Candidate], views: &[Vec<u32>]) -> Option<usize> {
+        let g = self.knowledge.geometry();
+        let eligible: Vec<usize> = (0..candidates.len())
+            .filter(|&i| candidates[i].eligible)
+            .collect();
+        let eligible_views: Vec<Vec<u32>> = eligible.iter().map(|&i| views[i].clone()).collect();
+        let per_cell = self.gain.m2(1);
+        let min_cells = if per_cell > 0.0 {
+            (self.gain.threshold_m2() / per_cell).ceil() as usize
+        } else {
+            1
+        };
+        let stops: Vec<usize> = covering_candidates(&eligible_views, g.len(), min_cells)
+            .into_iter()
+            .map(|k| eligible[k])
+            .collect();
+        if stops.is_empty() {
+            return None;
+        }
+        let cells: Vec<Cell> = stops.iter().map(|&i| candidates[i].cell).collect();
+        let d = travel_matrix(g, self.field, &self.trav.passable, &cells);
+        let mut order = open_tour(&d);
+        // Local choice among the first stops: area per (scan + travel).
+        let pc = &self.config.parent;
+        let scan_m = self
+            .config
+            .time
+            .scan_equivalent_m(self.config.children.count);
+        let rate = |node: usize| candidates[stops[node - 1]].gain_m2 / (scan_m + d[0][node]);
+        let look = pc.tour_lookahead.clamp(1, order.len());
+        let pick = (0..look)
+            .max_by(|&a, &b| rate(order[a]).total_cmp(&rate(order[b])).then(b.cmp(&a)))
+            .unwrap_or(0);
+        let first = order.remove(pick);
+        order.insert(0, first);
+        for (rank, &node) in order.iter().enumerate() {
+            candidates[stops[node - 1]].tour_rank = Some(rank);
+        }
+        let chosen = stops[first - 1];
+        self.refine(&mut candidates[chosen]);
+        Some(chosen)
+    }
+
+    /// Hill-climbs the candidate's position on the gain estimate: steps of
+    /// `parent.refine_step` metres, then half that, to any of the eight
+    /// neighbouring positions that is drivable and reachable and expects 5 %
+    /// more, until none does (0: off).
+    fn refine(&self, c: &mut Candidate) {
+        let step_m = self.config.parent.refine_step;
+        let g = self.knowledge.geometry();
+        let range = self.config.range_cells();
+        if step_m <= 0.0 {
+            return;
+        }
+        let valid = |cell: Cell| {
+            let i = g.index(cell);
+            self.trav.traversable[i] && self.field.reached(i)
+        };
+        let mut at = c.cell;
+        let mut here = self.gain.at(self.knowledge, at, range);
+        for metres in [step_m, step_m / 2.0] {
+            let s = (metres / g.resolution).round().max(1.0) as i64;
+            // Each accepted move gains 5 %: the climb ends within a few dozen.
+            for _ in 0..64 {
+                let mut moved = false;
+                for (dx, dy) in [
+                    (1, 0),
+                    (-1, 0),
+                    (0, 1),
+                    (0, -1),
+                    (1, 1),
+                    (1, -1),
+                    (-1, 1),
+                    (-1, -1),
+                ] {
+                    let Some(n) = g.checked_cell(at.x as i64 + dx * s, at.y as i64 + dy * s) else {
+                        continue;
+                    };
+                    if !valid(n) {
+                        continue;
+                    }
+                    let there = self.gain.at(self.knowledge, n, range);
+                    if there.m2 > here.m2 * 1.05 {
+                        at = n;
+                        here = there;
+                        moved = true;
+                    }
+                }
+                if !moved {
+                    break;
+                }
+            }
+        }
+        if at != c.cell {
+            c.cell = at;
+            c.position = g.cell_center(at);
+            c.refined = true;
+            set_gain(c, &here);
+            let t = candidate_terms(c, g, self.trav, self.field, self.config);
+            fill_terms(c, t);
+        }
+    }
+}
+
+/// The candidates that cover the frontier, by lazy greedy over `views` (each
+/// candidate's frontier cells, sorted), as long as a pick adds at least
+/// `min_cells` (and at least one); indices into `views`.
+pub fn covering_candidates(views: &[Vec<u32>], cells: usize, min_cells: usize) -> Vec<usize> {
+    lazy_greedy(views, cells)
+        .into_iter()
+        .take_while(|p| p.gain >= min_cells.max(1))
+        .map(|p| p.station)
+        .collect()
+}
+
+/// Travel estimates, metres, between the parent (node 0) and `stops` (nodes
+/// 1..): from the parent the field's distance; between stops the straight line
+/// when `passable` all along, else the route through the field's shortest-path
+/// tree.
+pub fn travel_matrix(
+    g: &GridGeometry,
+    field: &DistanceField,
+    passable: &[bool],
+    stops: &[Cell],
+) -> Vec<Vec<f64>> {
+    let n = stops.len();
+    let metres = |cost: u32| cost as f64 / STRAIGHT as f64 * g.resolution;
+    // Each stop's path from the parent, parent first.
+    let paths: Vec<Vec<usize>> = stops
+        .iter()
+        .map(|&c| {
+            descend(g, field, passable, c)
+                .unwrap_or_default()
+                .into_iter()
+                .map(|c| g.index(c))
+                .collect()
+        })
+        .collect();
+    let mut d = vec![vec![0.0; n + 1]; n + 1];
+    for (i, &c) in stops.iter().enumerate() {
+        let l = field.metres(g.index(c)).unwrap_or(f64::INFINITY);
+        d[0][i + 1] = l;
+        d[i + 1][0] = l;
+    }
+    for a in 0..n {
+        for b in a + 1..n {
+            let (ca, cb) = (stops[a], stops[b]);
+            let straight =
+                (ca.x as f64 - cb.x as f64).hypot(ca.y as f64 - cb.y as f64) * g.resolution;
+            let v = if segment_clear(g, ca, cb, |i| passable[i]) {
+                straight
+            } else {
+                let common = paths[a]
+                    .iter()
+                    .zip(&paths[b])
+                    .take_while(|(x, y)| x == y)
+                    .count();
+                match common.checked_sub(1).map(|k| paths[a][k]) {
+                    Some(fork) => {
+                        let (la, lb, lf) = (
+                            field.cost[g.index(ca)],
+                            field.cost[g.index(cb)],
+                            field.cost[fork],
+                        );
+                        metres(la - lf) + metres(lb - lf)
+                    }
+                    None => d[0][a + 1] + d[0][b + 1],
+                }
+            };
+            d[a + 1][b + 1] = v;
+            d[b + 1][a + 1] = v;
+        }
+    }
+    d
+}
+
+/// The length of the open path `order` (nodes of `d`) from node 0.
+fn path_length(d: &[Vec<f64>], order: &[usize]) -> f64 {
+    let mut at = 0;
+    let mut sum = 0.0;
+    for &n in order {
+        sum += d[at][n];
+        at = n;
+    }
+    sum
+}
+
+/// A short open path from node 0 through every other node of `d`: nearest
+/// neighbour, improved by 2-opt and Or-opt moves until none shortens it. Returns
+/// the nodes 1.. in visiting order.
+pub fn open_tour(d: &[Vec<f64>]) -> Vec<usize> {
+    let n = d.len();
+    if n <= 1 {
+        return Vec::new();
+    }
+    let mut left: Vec<usize> = (1..n).collect();
+    let mut order = Vec::with_capacity(n - 1);
+    let mut at = 0;
+    while !left.is_empty() {
+        let (k, _) = left
+            .iter()
+            .enumerate()
+            .min_by(|a, b| d[at][*a.1].total_cmp(&d[at][*b.1]).then(a.1.cmp(b.1)))
+            .map(|(k, &v)| (k, v))
+            .unwrap_or((0, left[0]));
+        at = left.swap_remove(k);
+        order.push(at);
+    }
+    let eps = 1e-9;
+    let mut improved = true;
+    let mut rounds = 0;
+    while improved && rounds < 100 {
+        improved = false;
+        rounds += 1;
+        // 2-opt: reverse order[i..=j].
+        for i in 0..order.len() {
+            for j in i + 1..order.len() {
+                let prev = if i == 0 { 0 } else { order[i - 1] };
+                let before =
+                    d[prev][order[i]] + order.get(j + 1).map_or(0.0, |&nx| d[order[j]][nx]);
+                let after = d[prev][order[j]] + order.get(j + 1).map_or(0.0, |&nx| d[order[i]][nx]);
+                if after + eps < before {
+                    order[i..=j].reverse();
+                    improved = true;
+                }
+            }
+        }
+        // Or-opt: move one stop elsewhere.
+        for i in 0..order.len() {
+            let base = path_length(d, &order);
+            let node = order.remove(i);
+            let mut best = (f64::INFINITY, i);
+            for k in 0..=order.len() {
+                order.insert(k, node);
+                let l = path_length(d, &order);
+                order.remove(k);
+                if l < best.0 {
+                    best = (l, k);
+                }
+            }
+            order.insert(best.1, node);
+            if best.0 + eps < base {
+                improved = true;
+            }
+        }
+    }
+    order
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    fn brute_force(d: &[Vec<f64>]) -> f64 {
+        fn go(d: &[Vec<f64>], at: usize, left: &mut Vec<usize>, sum: f64, best: &mut f64) {
+            if left.is_empty() {
+                *best = best.min(sum);
+                return;
+            }
+            for k in 0..left.len() {
+                let n = left.remove(k);
+                go(d, n, left, sum + d[at][n], best);
+                left.insert(k, n);
+            }
+        }
+        let mut best = f64::INFINITY;
+        go(d, 0, &mut (1..d.len()).collect(), 0.0, &mut best);
+        best
+    }
+
+    #[test]
+    fn a_line_of_stops_is_walked_in_order() {
+        // Stops on a line at 5, 1, 3, 2, 4 m from the parent at 0.
+        let xs = [0.0, 5.0, 1.0, 3.0, 2.0, 4.0];
+        let d: Vec<Vec<f64>> = xs
+            .iter()
+            .map(|a| xs.iter().map(|b| (a - b as &f64).abs()).collect())
+            .collect();
+        assert_eq!(open_tour(&d), vec![2, 4, 3, 5, 1]);
+    }
+
+    proptest! {
+        #[test]
+        fn the_tour_visits_every_stop_once_and_is_near_optimal(
+            pts in prop::collection::vec((0.0f64..50.0, 0.0f64..50.0), 2..8)
+        ) {
+            let d: Vec<Vec<f64>> = pts
+                .iter()
+                .map(|a| pts.iter().map(|b| (a.0 - b.0).hypot(a.1 - b.1)).collect())
+                .collect();
+            let order = open_tour(&d);
+            let mut sorted = order.clone();
+            sorted.sort_unstable();
+            prop_assert_eq!(sorted, (1..pts.len()).collect::<Vec<_>>());
+            let best = brute_force(&d);
+            // 2-opt with Or-opt on the plane: within 25 % of the optimum here.
+            prop_assert!(path_length(&d, &order) <= 1.25 * best + 1e-9);
+        }
+    }
+}

@@ -1,0 +1,128 @@
+//! The known-map bound: greedy cover and lower bound on maps whose answer is
+//! known, their invariants on random rooms, and the exploring planners measured
+//! against it.
+
+use cpsplan::bound::{known_map_bound, BoundParams, KnownMapBound, BOUND_SHARES};
+use cpsplan::config::Planner;
+use cpsplan::geom::Point;
+use cpsplan::grid::{CellState, GridGeometry, OccupancyGrid};
+use cpsplan::world::builtin::BuiltinMap;
+use cpsplan::{run_episode, Config};
+use proptest::prelude::*;
+
+/// `n` square rooms 4 m wide in a row, each joined to a corridor along the
+/// bottom by a door, walls 0.1 m thick; 0.1 m cells. The scanner range is
+/// short (3 m), so the corridor needs stations of its own.
+fn rooms(n: usize) -> OccupancyGrid {
+    let w = 41 * n + 1;
+    let g = GridGeometry::new(w, 62, 0.1, Point::default());
+    let mut t = OccupancyGrid::filled(g, CellState::Occupied);
+    t.fill_rect(1, 1, w - 1, 20, CellState::Free); // corridor, 1.9 m
+    for k in 0..n {
+        let x0 = 41 * k + 1;
+        t.fill_rect(x0, 21, x0 + 40, 61, CellState::Free); // room
+        t.fill_rect(x0 + 15, 20, x0 + 25, 21, CellState::Free); // door
+    }
+    t
+}
+
+fn bound(truth: &OccupancyGrid, range: f64) -> KnownMapBound {
+    let mut config = Config::default();
+    config.scanner.range = range;
+    known_map_bound(truth, Point::new(1.0, 1.0), &config, BoundParams::default())
+        .expect("the bound is computed")
+}
+
+#[test]
+fn every_room_needs_its_own_station() {
+    let truth = rooms(4);
+    let b = bound(&truth, 3.0);
+    assert_eq!(b.coverable_targets, b.targets);
+    let full = b.level(1.0).expect("100 % is reported");
+    // No station sees into two rooms' far corners: at least one per room.
+    assert!(full.greedy_stations >= 4, "{full:?}");
+    assert!(full.lower_bound_stations >= 4, "{full:?}");
+    assert!(full.lower_bound_stations <= full.greedy_stations);
+    // The stations' gains add up to the coverable targets.
+    let total: usize = b.stations.iter().map(|s| s.new_targets).sum();
+    assert_eq!(total, b.coverable_targets);
+    assert!((b.stations.last().map_or(0.0, |s| s.coverage) - 1.0).abs() < 1e-12);
+}
+
+#[test]
+fn an_open_room_in_range_needs_one_station() {
+    let g = GridGeometry::new(60, 60, 0.1, Point::default());
+    let mut t = OccupancyGrid::filled(g, CellState::Occupied);
+    t.fill_rect(1, 1, 59, 59, CellState::Free);
+    let b = bound(&t, 20.0);
+    for l in &b.levels {
+        assert_eq!((l.greedy_stations, l.lower_bound_stations), (1, 1), "{l:?}");
+    }
+}
+
+#[test]
+fn the_default_planners_against_the_bound_on_the_site() {
+    let truth = BuiltinMap::Site.generate(0);
+    let start = BuiltinMap::Site.default_start();
+    let b = known_map_bound(&truth, start, &Config::default(), BoundParams::default())
+        .expect("the site's bound");
+    let g99 = b.level(0.99).map(|l| l.greedy_stations).unwrap_or(0);
+    assert!(g99 >= 1);
+    for planner in [Planner::Paper, Planner::Tour] {
+        let mut config = Config::default();
+        config.parent.planner = planner;
+        let ep = run_episode(&truth, start, &config, |_| {}).expect("episode runs");
+        let s99 = ep
+            .steps
+            .iter()
+            .position(|s| s.coverage >= 0.99)
+            .map(|k| k + 1)
+            .expect("99 % is reached");
+        // No explorer beats the known-map lower bound.
+        let lb = b.level(0.99).map(|l| l.lower_bound_stations).unwrap_or(0);
+        assert!(
+            s99 >= lb,
+            "{planner:?}: {s99} scans to 99 % under the bound {lb}"
+        );
+        // Both stay within twice the greedy cover on this open site.
+        assert!(
+            s99 <= 2 * g99,
+            "{planner:?}: {s99} scans to 99 %, greedy {g99}"
+        );
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(12))]
+
+    /// On random rooms with pillars: the levels grow with the share, the lower
+    /// bound never exceeds the greedy cover, and the cover's coverage rises to 1.
+    #[test]
+    fn levels_are_ordered_and_bounded(
+        pillars in prop::collection::vec((2usize..36, 2usize..26, 1usize..5, 1usize..5), 0..6),
+        range in 1.0f64..6.0,
+    ) {
+        let g = GridGeometry::new(40, 30, 0.1, Point::default());
+        let mut t = OccupancyGrid::filled(g, CellState::Occupied);
+        t.fill_rect(1, 1, 39, 29, CellState::Free);
+        for (x, y, w, h) in pillars {
+            if x <= 12 && y <= 12 { continue; }
+            t.fill_rect(x, y, (x + w).min(39), (y + h).min(29), CellState::Occupied);
+        }
+        let b = bound(&t, range);
+        prop_assert_eq!(b.levels.len(), BOUND_SHARES.len());
+        for w in b.levels.windows(2) {
+            prop_assert!(w[0].greedy_stations <= w[1].greedy_stations);
+        }
+        for l in &b.levels {
+            prop_assert!(l.lower_bound <= l.greedy_stations as f64 + 1e-9, "{:?}", l);
+            prop_assert!(l.lower_bound_stations >= 1);
+        }
+        let mut last = 0.0;
+        for s in &b.stations {
+            prop_assert!(s.coverage > last);
+            last = s.coverage;
+        }
+        prop_assert!((last - 1.0).abs() < 1e-12);
+    }
+}
