@@ -140,6 +140,17 @@ fn stages(c: &mut Criterion) {
             plan_parent(black_box(k), m.parent, config, &mut rng)
         })
     });
+    group.bench_function("gain_estimate", |b| {
+        b.iter(|| cpsplan::sensing::GainEstimate::new(black_box(k), config))
+    });
+    let mut tour = *config;
+    tour.parent.planner = cpsplan::config::Planner::Tour;
+    group.bench_function("plan_parent_tour", |b| {
+        b.iter(|| {
+            let mut rng = ChaCha8Rng::seed_from_u64(7);
+            plan_parent(black_box(k), m.parent, &tour, &mut rng)
+        })
+    });
     group.finish();
 }
 
@@ -159,6 +170,17 @@ fn late_stages(c: &mut Criterion) {
         b.iter(|| {
             let mut rng = ChaCha8Rng::seed_from_u64(7);
             plan_parent(black_box(k), m.parent, config, &mut rng)
+        })
+    });
+    group.bench_function("gain_estimate", |b| {
+        b.iter(|| cpsplan::sensing::GainEstimate::new(black_box(k), config))
+    });
+    let mut tour = *config;
+    tour.parent.planner = cpsplan::config::Planner::Tour;
+    group.bench_function("plan_parent_tour", |b| {
+        b.iter(|| {
+            let mut rng = ChaCha8Rng::seed_from_u64(7);
+            plan_parent(black_box(k), m.parent, &tour, &mut rng)
         })
     });
     group.finish();

@@ -5,7 +5,7 @@
 //!
 //! `cargo run --release -p cpsplan --example step_timing -- site 0 2`
 //! (`VERBOSE=1` prints every step's time; `STRATEGY=min-error` sets the child
-//! strategy).
+//! strategy; `PLANNER=tour` the planner).
 
 use std::time::Instant;
 
@@ -24,6 +24,13 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         ..Config::default()
     };
     config.children.count = children;
+    if let Some(p) = std::env::var_os("PLANNER") {
+        config.parent.planner = match p.to_string_lossy().as_ref() {
+            "tour" => cpsplan::config::Planner::Tour,
+            "paper" => cpsplan::config::Planner::Paper,
+            _ => return Err("unknown PLANNER (paper or tour)".into()),
+        };
+    }
     if let Some(s) = std::env::var_os("STRATEGY") {
         let s = s.to_string_lossy();
         config.children.strategy = cpsplan::config::ChildStrategy::ALL

@@ -320,8 +320,8 @@ pub fn known_map_bound(
         resolution_m: res,
         robot_radius_m: radius,
         start: g.cell_center(cell),
-        spacing_m: step as f64 * res,
-        target_spacing_m: stride as f64 * res,
+        spacing_m: tidy(step as f64 * res),
+        target_spacing_m: tidy(stride as f64 * res),
         lattice_stations: lattice.len(),
         corner_stations: corners.len(),
         reachable_free_cells: reachable_free,
@@ -330,4 +330,9 @@ pub fn known_map_bound(
         levels,
         stations: chosen,
     })
+}
+
+/// `v` rounded to a nanometre (3 × 0.1 m is 0.30000000000000004).
+fn tidy(v: f64) -> f64 {
+    (v * 1e9).round() / 1e9
 }

@@ -132,7 +132,7 @@ impl Default for ParentConfig {
             kmeans_iterations: 30,
             min_gain_cells: 10,
             min_gain_m2: 0.1,
-            min_gain_share: 0.001,
+            min_gain_share: 0.0005,
             unknown_depth: 2.0,
             gain_scale: 1.0,
             calibration_window: 10,

@@ -199,7 +199,11 @@ fn check_team(
             return Err(same(name(j)));
         }
         let distance = g.cell_center(cell).distance(g.cell_center(parent));
-        if !(min..=max).contains(&distance) {
+        // Cell centres in world metres carry rounding (13 cells of 0.1 m come
+        // out as 1.2999999999999994 m): a team the planner itself placed at the
+        // shortest link must pass.
+        const TOLERANCE_M: f64 = 1e-9;
+        if distance < min - TOLERANCE_M || distance > max + TOLERANCE_M {
             return Err(PlanError::OutOfLinkRange {
                 robot: name(i),
                 distance,
@@ -209,4 +213,38 @@ fn check_team(
         }
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::grid::{CellState, GridGeometry};
+
+    #[test]
+    fn a_child_at_exactly_the_shortest_link_is_accepted() {
+        // 13 cells of 0.1 m: 1.2999999999999994 m between the cell centres.
+        let g = GridGeometry::new(100, 100, 0.1, Point::default());
+        let mut k = OccupancyGrid::filled(g, CellState::Occupied);
+        k.fill_rect(1, 1, 99, 99, CellState::Free);
+        let c = |x: usize, y: usize| g.cell_center(crate::geom::Cell::new(x, y));
+        // A column where the rounding falls short of 1.3 m.
+        let x = (1..80)
+            .find(|&x| c(x, 50).distance(c(x + 13, 50)) < 1.3)
+            .expect("some pair of centres 13 cells apart rounds below 1.3 m");
+        let (parent, kids) = (c(x, 50), [c(x + 13, 50), c(x, 70)]);
+        let config = Config::default();
+        assert!(
+            !matches!(
+                plan_step(&k, parent, &kids, &config),
+                Err(PlanError::OutOfLinkRange { .. })
+            ),
+            "refused at the shortest link"
+        );
+        // One cell nearer is refused.
+        let near = [c(x + 12, 50), c(x, 70)];
+        assert!(matches!(
+            plan_step(&k, parent, &near, &config),
+            Err(PlanError::OutOfLinkRange { .. })
+        ));
+    }
 }

@@ -47,7 +47,7 @@ pub fn frontier_cells<'a>(
     order.sort_unstable_by_key(|&i| (field.cost[i], i));
     order
         .into_iter()
-        .filter(move |&i| gain.worth_a_scan(&gain.at(knowledge, g.cell(i), config.range_cells())))
+        .filter(move |&i| gain.worth_at(knowledge, g.cell(i), config.range_cells()))
         .map(move |i| g.cell(i))
 }
 
