@@ -126,3 +126,29 @@ proptest! {
         prop_assert!((last - 1.0).abs() < 1e-12);
     }
 }
+
+/// With the m² rule and the calibration off, the paper's stop (`S ≥
+/// min_gain_cells` alone) is back: the site is explored until no border is left,
+/// where the default rule stops earlier, at a position worth no scan.
+#[test]
+fn the_paper_stop_rule_is_kept_behind_its_settings() {
+    let truth = BuiltinMap::Site.generate(0);
+    let start = BuiltinMap::Site.default_start();
+    let mut paper = Config::default();
+    paper.parent.min_gain_m2 = 0.0;
+    paper.parent.min_gain_share = 0.0;
+    paper.parent.calibration_window = 0;
+    let old = run_episode(&truth, start, &paper, |_| {}).expect("episode runs");
+    let new = run_episode(&truth, start, &Config::default(), |_| {}).expect("episode runs");
+    assert_eq!(old.summary.stop_reason, cpsplan::StopReason::Complete);
+    assert_eq!(
+        new.summary.stop_reason,
+        cpsplan::StopReason::NoReachableFrontier
+    );
+    assert!(new.summary.scans < old.summary.scans);
+    assert!(new.summary.coverage >= 0.99);
+    // Every scan of the paper's rule expected at least min_gain_cells.
+    for s in &old.steps[1..] {
+        assert!(s.expected_s_cells.unwrap_or(0) >= paper.parent.min_gain_cells);
+    }
+}
