@@ -78,26 +78,9 @@ impl GainEstimate {
         knowledge: &OccupancyGrid,
         at: Cell,
         range_cells: f64,
-        mut on_near: impl FnMut(usize),
+        on_near: impl FnMut(usize),
     ) -> Gain {
-        let k = knowledge.cells();
-        let (mut s, mut near) = (0usize, 0usize);
-        visible_cells(
-            knowledge.geometry(),
-            at,
-            range_cells,
-            |i| k[i] == CellState::Occupied,
-            |i| {
-                if k[i] == CellState::Unknown {
-                    s += 1;
-                    if self.near[i] {
-                        near += 1;
-                        on_near(i);
-                    }
-                }
-                false
-            },
-        );
+        let (s, near) = self.count(knowledge, at, range_cells, on_near, |_, _| false);
         Gain {
             s_cells: s,
             near_cells: near,
@@ -114,6 +97,21 @@ impl GainEstimate {
         } else {
             0
         };
+        let enough = |s: usize, near: usize| s >= self.min_cells && near >= need_near;
+        let (s, near) = self.count(knowledge, at, range_cells, |_| {}, enough);
+        enough(s, near) && self.m2(near) >= self.threshold_m2()
+    }
+
+    /// The Unknown cells in view from `at` and those of them near known free
+    /// space (`on_near` sees each), until `stop(unknown, near)` says enough.
+    fn count(
+        &self,
+        knowledge: &OccupancyGrid,
+        at: Cell,
+        range_cells: f64,
+        mut on_near: impl FnMut(usize),
+        stop: impl Fn(usize, usize) -> bool,
+    ) -> (usize, usize) {
         let k = knowledge.cells();
         let (mut s, mut near) = (0usize, 0usize);
         visible_cells(
@@ -124,12 +122,15 @@ impl GainEstimate {
             |i| {
                 if k[i] == CellState::Unknown {
                     s += 1;
-                    near += usize::from(self.near[i]);
+                    if self.near[i] {
+                        near += 1;
+                        on_near(i);
+                    }
                 }
-                s >= self.min_cells && near >= need_near
+                stop(s, near)
             },
         );
-        s >= self.min_cells && near >= need_near && self.m2(near) >= self.threshold_m2()
+        (s, near)
     }
 
     /// The calibrated area, m², of `near_cells` cells.
