@@ -203,6 +203,26 @@ impl OccupancyGrid {
         self.cells.iter().filter(|&&c| c == state).count()
     }
 
+    /// Inclusive bounds `(x0, y0, x1, y1)` of the cells whose state satisfies
+    /// `keep`, if any.
+    pub fn bounds_of(
+        &self,
+        keep: impl Fn(CellState) -> bool,
+    ) -> Option<(usize, usize, usize, usize)> {
+        let mut b: Option<(usize, usize, usize, usize)> = None;
+        for (y, row) in self.cells.chunks(self.width().max(1)).enumerate() {
+            let Some(first) = row.iter().position(|&c| keep(c)) else {
+                continue;
+            };
+            let last = row.iter().rposition(|&c| keep(c)).unwrap_or(first);
+            b = Some(match b {
+                None => (first, y, last, y),
+                Some((x0, y0, x1, _)) => (x0.min(first), y0, x1.max(last), y),
+            });
+        }
+        b
+    }
+
     /// Fill the axis-aligned rectangle of cells `[x0, x1) × [y0, y1)` (clipped).
     pub fn fill_rect(&mut self, x0: usize, y0: usize, x1: usize, y1: usize, state: CellState) {
         let (x1, y1) = (x1.min(self.width()), y1.min(self.height()));

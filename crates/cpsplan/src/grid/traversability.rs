@@ -92,7 +92,7 @@ impl Traversability {
         let k = knowledge.cells();
         let (w, h) = (g.width, g.height);
         let n = g.len();
-        let known = known_bounds(knowledge);
+        let known = knowledge.bounds_of(|c| c != CellState::Unknown);
         let drivable = || {
             let mut traversable = vec![false; n];
             if let Some(bounds) = known {
@@ -453,26 +453,6 @@ fn mark_window<T: Vertical>(
     }
 }
 
-/// Inclusive bounds `(x0, y0, x1, y1)` of the cells that are not Unknown.
-fn known_bounds(knowledge: &OccupancyGrid) -> Option<(usize, usize, usize, usize)> {
-    let w = knowledge.width();
-    let mut b: Option<(usize, usize, usize, usize)> = None;
-    for (y, row) in knowledge.cells().chunks(w).enumerate() {
-        let Some(first) = row.iter().position(|&c| c != CellState::Unknown) else {
-            continue;
-        };
-        let last = row
-            .iter()
-            .rposition(|&c| c != CellState::Unknown)
-            .unwrap_or(first);
-        b = Some(match b {
-            None => (first, y, last, y),
-            Some((x0, y0, x1, _)) => (x0.min(first), y0, x1.max(last), y),
-        });
-    }
-    b
-}
-
 /// Marks the known-Free cells connected to `robot` within `radius` plus two cells;
 /// whether any cell was marked.
 fn mark_escape_region(
@@ -567,7 +547,7 @@ mod tests {
         let to_metres = |d: f32| ((d - 0.5).max(0.0) as f64 * res) as f32;
         let mut clearance = vec![f32::INFINITY; n];
         let mut safe_clearance = vec![0.0f32; n];
-        if let Some((x0, y0, x1, y1)) = known_bounds(knowledge) {
+        if let Some((x0, y0, x1, y1)) = knowledge.bounds_of(|c| c != CellState::Unknown) {
             let (bw, bh) = (x1 - x0 + 1, y1 - y0 + 1);
             let d = transform(bw, bh, |x, y| {
                 k[(y0 + y) * w + x0 + x] == CellState::Occupied

@@ -84,7 +84,7 @@ pub fn gvd(knowledge: &OccupancyGrid, trav: &Traversability) -> Gvd {
     let mut clearance = vec![0.0f32; n];
     // Everything outside the bounding box of the Free cells is an obstacle, so the
     // box plus a one-cell ring (the window) is all that matters.
-    let Some((x0, y0, x1, y1)) = free_bounds(knowledge) else {
+    let Some((x0, y0, x1, y1)) = knowledge.bounds_of(|c| c == CellState::Free) else {
         return Gvd {
             skeleton,
             clearance,
@@ -166,26 +166,6 @@ pub fn gvd(knowledge: &OccupancyGrid, trav: &Traversability) -> Gvd {
         clearance,
         edge_component,
     }
-}
-
-/// Inclusive bounds `(x0, y0, x1, y1)` of the Free cells, if any.
-fn free_bounds(knowledge: &OccupancyGrid) -> Option<(usize, usize, usize, usize)> {
-    let w = knowledge.width();
-    let mut b: Option<(usize, usize, usize, usize)> = None;
-    for (y, row) in knowledge.cells().chunks(w).enumerate() {
-        let Some(first) = row.iter().position(|&c| c == CellState::Free) else {
-            continue;
-        };
-        let last = row
-            .iter()
-            .rposition(|&c| c == CellState::Free)
-            .unwrap_or(first);
-        b = Some(match b {
-            None => (first, y, last, y),
-            Some((x0, y0, x1, _)) => (x0.min(first), y0, x1.max(last), y),
-        });
-    }
-    b
 }
 
 /// A cell of the padded window: index and coordinates.

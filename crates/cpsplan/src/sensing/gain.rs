@@ -171,7 +171,7 @@ fn near_cells(knowledge: &OccupancyGrid, depth: f64) -> Vec<bool> {
     let g = knowledge.geometry();
     let k = knowledge.cells();
     let mut near = vec![false; k.len()];
-    let Some((x0, y0, x1, y1)) = free_bounds(knowledge) else {
+    let Some((x0, y0, x1, y1)) = knowledge.bounds_of(|c| c == CellState::Free) else {
         return near;
     };
     let (bw, bh) = (g.width.div_ceil(BLOCK), g.height.div_ceil(BLOCK));
@@ -298,28 +298,6 @@ fn chamfer(width: usize, height: usize, is_source: impl Fn(usize, usize) -> bool
         }
     }
     d
-}
-
-/// The smallest window `(x0, y0, x1, y1)` (inclusive) holding every known-Free
-/// cell, if any.
-fn free_bounds(knowledge: &OccupancyGrid) -> Option<(usize, usize, usize, usize)> {
-    let g = knowledge.geometry();
-    let k = knowledge.cells();
-    let mut b: Option<(usize, usize, usize, usize)> = None;
-    for (y, row) in k.chunks(g.width.max(1)).enumerate() {
-        let Some(first) = row.iter().position(|&c| c == CellState::Free) else {
-            continue;
-        };
-        let last = row
-            .iter()
-            .rposition(|&c| c == CellState::Free)
-            .unwrap_or(first);
-        b = Some(match b {
-            None => (first, y, last, y),
-            Some((x0, y0, x1, _)) => (x0.min(first), y0, x1.max(last), y),
-        });
-    }
-    b
 }
 
 #[cfg(test)]

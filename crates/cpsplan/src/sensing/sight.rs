@@ -241,21 +241,7 @@ impl SightField {
     /// leaves it).
     pub fn of_known(knowledge: &OccupancyGrid, rule: LinkRule) -> Self {
         let g = knowledge.geometry();
-        let (w, k) = (g.width, knowledge.cells());
-        let mut b: Option<(usize, usize, usize, usize)> = None;
-        for (y, row) in k.chunks(w.max(1)).enumerate() {
-            let Some(first) = row.iter().position(|&c| c == CellState::Free) else {
-                continue;
-            };
-            let last = row
-                .iter()
-                .rposition(|&c| c == CellState::Free)
-                .unwrap_or(first);
-            b = Some(match b {
-                None => (first, y, last, y),
-                Some((x0, y0, x1, _)) => (x0.min(first), y0, x1.max(last), y),
-            });
-        }
+        let b = knowledge.bounds_of(|c| c == CellState::Free);
         Self::new(
             knowledge,
             b.unwrap_or((0, 0, 0, 0)),
