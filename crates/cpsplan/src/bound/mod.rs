@@ -180,7 +180,7 @@ pub fn known_map_bound(
     let res = g.resolution;
     let radius = config.robot.radius;
     // Drivable cells reachable from the start, and the free cells coverage counts.
-    let (trav_field, tracker) = rayon::join(
+    let (drivable, tracker) = rayon::join(
         || {
             let trav = Traversability::new(&truth, radius, cell);
             let field = sweep(&g, &trav.passable, &[g.index(cell)], UNREACHED);
@@ -193,7 +193,6 @@ pub fn known_map_bound(
             CoverageTracker::new(&truth, cell, radius, &unknown)
         },
     );
-    let drivable = trav_field;
     let reachable_free = tracker.free_total();
 
     // Targets, on a sub-lattice of `stride` cells.

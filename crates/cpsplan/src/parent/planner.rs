@@ -279,7 +279,7 @@ pub fn plan_parent_with_reach(
             gain: &gain,
             config,
         };
-        if let Some(first) = round.target(&mut plan.candidates, &views) {
+        if let Some(first) = round.target(&mut plan.candidates, views) {
             best = Some((first, plan.candidates[first].g));
         }
     }

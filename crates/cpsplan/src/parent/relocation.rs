@@ -70,7 +70,7 @@ pub fn relocations(
     let g = knowledge.geometry();
     let step = (RELOCATE_SPACING_M / g.resolution).round().max(1.0) as i64;
     let reach = (RELOCATE_RADIUS_M / g.resolution).floor() as i64;
-    let mut found: Vec<(f64, i64, Cell)> = Vec::new();
+    let mut found: Vec<(usize, i64, Cell)> = Vec::new();
     for dy in (-reach..=reach).step_by(step as usize) {
         for dx in (-reach..=reach).step_by(step as usize) {
             let d2 = dx * dx + dy * dy;
@@ -88,11 +88,11 @@ pub fn relocations(
             }
             let expected = gain.at(knowledge, cell, config.range_cells());
             if gain.worth_a_scan(&expected) {
-                found.push((expected.s_cells as f64, d2, cell));
+                found.push((expected.s_cells, d2, cell));
             }
         }
     }
-    found.sort_by(|a, b| b.0.total_cmp(&a.0).then(a.1.cmp(&b.1)).then(a.2.cmp(&b.2)));
+    found.sort_by(|a, b| b.0.cmp(&a.0).then(a.1.cmp(&b.1)).then(a.2.cmp(&b.2)));
     found
         .into_iter()
         .take(RELOCATE_TRIES)

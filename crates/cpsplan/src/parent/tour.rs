@@ -47,23 +47,22 @@ impl TourRound<'_> {
     /// duration counted as the travel it would buy,
     /// [`crate::config::TimeConfig::scan_equivalent_m`]), moves that stop to
     /// the front and refines its position; returns its index. `views[i]`:
-    /// the frontier cells candidate `i` would see, sorted.
-    pub fn target(&self, candidates: &mut [Candidate], views: &[Vec<u32>]) -> Option<usize> {
+    /// the frontier cells candidate `i` would see, sorted (those of candidates
+    /// that are not eligible are dropped here).
+    pub fn target(&self, candidates: &mut [Candidate], mut views: Vec<Vec<u32>>) -> Option<usize> {
         let g = self.knowledge.geometry();
-        let eligible: Vec<usize> = (0..candidates.len())
-            .filter(|&i| candidates[i].eligible)
-            .collect();
-        let eligible_views: Vec<Vec<u32>> = eligible.iter().map(|&i| views[i].clone()).collect();
+        for (c, v) in candidates.iter().zip(&mut views) {
+            if !c.eligible {
+                v.clear();
+            }
+        }
         let per_cell = self.gain.m2(1);
         let min_cells = if per_cell > 0.0 {
             (self.gain.threshold_m2() / per_cell).ceil() as usize
         } else {
             1
         };
-        let stops: Vec<usize> = covering_candidates(&eligible_views, g.len(), min_cells)
-            .into_iter()
-            .map(|k| eligible[k])
-            .collect();
+        let stops = covering_candidates(&views, g.len(), min_cells);
         if stops.is_empty() {
             return None;
         }
