@@ -180,19 +180,13 @@ pub fn known_map_bound(
     let res = g.resolution;
     let radius = config.robot.radius;
     // Drivable cells reachable from the start, and the free cells coverage counts.
-    let (drivable, tracker) = rayon::join(
-        || {
-            let trav = Traversability::new(&truth, radius, cell);
-            let field = sweep(&g, &trav.passable, &[g.index(cell)], UNREACHED);
-            (0..g.len())
-                .map(|i| trav.traversable[i] && field.reached(i))
-                .collect::<Vec<bool>>()
-        },
-        || {
-            let unknown = OccupancyGrid::filled(g, CellState::Unknown);
-            CoverageTracker::new(&truth, cell, radius, &unknown)
-        },
-    );
+    let trav = Traversability::new(&truth, radius, cell);
+    let field = sweep(&g, &trav.passable, &[g.index(cell)], UNREACHED);
+    let drivable: Vec<bool> = (0..g.len())
+        .map(|i| trav.traversable[i] && field.reached(i))
+        .collect();
+    let unknown = OccupancyGrid::filled(g, CellState::Unknown);
+    let tracker = CoverageTracker::with_field(&truth, cell, radius, &unknown, &field);
     let reachable_free = tracker.free_total();
 
     // Targets, on a sub-lattice of `stride` cells.

@@ -16,7 +16,7 @@
 use crate::geom::Cell;
 use crate::grid::distance::transform;
 use crate::grid::region::flood4;
-use crate::grid::travel::{sweep, UNREACHED};
+use crate::grid::travel::{sweep, DistanceField, UNREACHED};
 use crate::grid::Traversability;
 use crate::grid::{CellState, OccupancyGrid};
 
@@ -43,21 +43,49 @@ impl CoverageTracker {
     /// knows.
     pub fn new(truth: &OccupancyGrid, start: Cell, radius: f64, knowledge: &OccupancyGrid) -> Self {
         let g = truth.geometry();
+        let s = g.index(start);
+        // Drivable positions connected to the start.
+        let field = (truth.cells()[s] == CellState::Free).then(|| {
+            let solid = truth.solidified();
+            let trav = Traversability::new(&solid, radius, start);
+            sweep(g, &trav.passable, &[s], UNREACHED)
+        });
+        Self::build(truth, start, radius, knowledge, field.as_ref())
+    }
+
+    /// [`Self::new`] for a caller that already has the robot's travel `field`
+    /// from `start` (over its passable cells on the solidified `truth`).
+    pub fn with_field(
+        truth: &OccupancyGrid,
+        start: Cell,
+        radius: f64,
+        knowledge: &OccupancyGrid,
+        field: &DistanceField,
+    ) -> Self {
+        let free = truth.cells()[truth.geometry().index(start)] == CellState::Free;
+        Self::build(truth, start, radius, knowledge, free.then_some(field))
+    }
+
+    fn build(
+        truth: &OccupancyGrid,
+        start: Cell,
+        radius: f64,
+        knowledge: &OccupancyGrid,
+        field: Option<&DistanceField>,
+    ) -> Self {
+        let g = truth.geometry();
         let (w, h) = (g.width as i64, g.height as i64);
         let t = truth.cells();
         let mut role = vec![0u8; g.len()];
         let s = g.index(start);
-        if t[s] == CellState::Free {
+        if let Some(field) = field {
             let connected = flood4(g.width, g.height, s, |i| t[i] == CellState::Free);
             for (r, c) in role.iter_mut().zip(connected) {
                 if c {
                     *r = CONNECTED;
                 }
             }
-            // Drivable positions connected to the start, and their footprints.
-            let solid = truth.solidified();
-            let trav = Traversability::new(&solid, radius, start);
-            let field = sweep(g, &trav.passable, &[s], UNREACHED);
+            // The drivable positions' footprints.
             let reach = radius / g.resolution + 0.5;
             let d = transform(g.width, g.height, |x, y| field.reached(y * g.width + x));
             for (i, r) in role.iter_mut().enumerate() {
