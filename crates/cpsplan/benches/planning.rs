@@ -134,6 +134,13 @@ fn stages(c: &mut Criterion) {
             )
         })
     });
+    bench_parent_round(&mut group, &m);
+    group.finish();
+}
+
+/// The parent's whole round with each planner, and its gain estimate.
+fn bench_parent_round(group: &mut BenchmarkGroup<'_, WallTime>, m: &MidEpisode) {
+    let (k, config) = (&m.knowledge, &m.config);
     group.bench_function("plan_parent", |b| {
         b.iter(|| {
             let mut rng = ChaCha8Rng::seed_from_u64(7);
@@ -151,7 +158,6 @@ fn stages(c: &mut Criterion) {
             plan_parent(black_box(k), m.parent, &tour, &mut rng)
         })
     });
-    group.finish();
 }
 
 fn late_stages(c: &mut Criterion) {
@@ -166,23 +172,7 @@ fn late_stages(c: &mut Criterion) {
         .measurement_time(Duration::from_secs(3));
     let trav = Traversability::new(k, config.robot.radius, m.parent);
     bench_reach_sweep(&mut group, &g, &trav, m.parent);
-    group.bench_function("plan_parent", |b| {
-        b.iter(|| {
-            let mut rng = ChaCha8Rng::seed_from_u64(7);
-            plan_parent(black_box(k), m.parent, config, &mut rng)
-        })
-    });
-    group.bench_function("gain_estimate", |b| {
-        b.iter(|| cpsplan::sensing::GainEstimate::new(black_box(k), config))
-    });
-    let mut tour = *config;
-    tour.parent.planner = cpsplan::config::Planner::Tour;
-    group.bench_function("plan_parent_tour", |b| {
-        b.iter(|| {
-            let mut rng = ChaCha8Rng::seed_from_u64(7);
-            plan_parent(black_box(k), m.parent, &tour, &mut rng)
-        })
-    });
+    bench_parent_round(&mut group, &m);
     group.finish();
 }
 
