@@ -246,7 +246,14 @@ mod tests {
             let mut after = chain.clone();
             prop_assume!(after.cycle(to2, &spots, &moved).is_ok());
             let exact = cost(&after, to1);
-            prop_assert!(((predicted - exact) / exact).abs() < 1e-6, "{} vs {}", predicted, exact);
+            if predicted.is_infinite() {
+                // The objective calls a geometry that nearly fails to fix the pose
+                // failed (`Objective::value`); the chain's exact inversion still
+                // succeeds there, with an error of tens of metres or more.
+                prop_assert!(exact > 1e3, "{} vs {}", predicted, exact);
+            } else {
+                prop_assert!(((predicted - exact) / exact).abs() < 1e-6, "{} vs {}", predicted, exact);
+            }
         }
     }
 }
