@@ -191,7 +191,7 @@ pub fn execute_move(
     let seed =
         config.seed ^ ((here.y as u64) << 32 | here.x as u64).wrapping_mul(0x9e37_79b9_7f4a_7c15);
     let maps = StepMaps::assemble(knowledge, parent_terrain, child_terrain, &params).seeded(seed);
-    let retrieval = Retrieval::new(&maps);
+    let retrieval = Retrieval::new(&maps).with_guide(here, &field);
     let step = TeamStep {
         maps: &maps,
         roads: &roads,

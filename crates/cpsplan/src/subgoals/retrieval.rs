@@ -32,7 +32,7 @@ use crate::children::{
 };
 use crate::config::ChildStrategy;
 use crate::geom::Cell;
-use crate::grid::OccupancyGrid;
+use crate::grid::{DistanceField, OccupancyGrid};
 
 /// The CPS cycles of one parent move.
 #[derive(Debug, Clone, PartialEq)]
@@ -88,6 +88,7 @@ pub fn plan_move(
 pub struct Retrieval<'m, 'k> {
     maps: &'m StepMaps<'k>,
     graph: OnceCell<VisibilityGraph>,
+    guide: Option<(Cell, &'m DistanceField)>,
 }
 
 impl<'m, 'k> Retrieval<'m, 'k> {
@@ -96,7 +97,17 @@ impl<'m, 'k> Retrieval<'m, 'k> {
         Self {
             maps,
             graph: OnceCell::new(),
+            guide: None,
         }
+    }
+
+    /// The retrieval with the parent's travel distances from `source` over its
+    /// terrain's passable cells (the planning round's sweep): the Visibility
+    /// Graph searches of moves from `source` are guided by them
+    /// ([`VisibilityGraph::shortest_path_guided`]).
+    pub fn with_guide(mut self, source: Cell, field: &'m DistanceField) -> Self {
+        self.guide = Some((source, field));
+        self
     }
 
     /// The parent's Visibility Graph (section IV-C step 2), built on first use.
@@ -191,7 +202,15 @@ fn retrieve(
     let trav = &terrain.trav;
     let corners = retrieval
         .visibility_graph()
-        .shortest_path(maps.knowledge().geometry(), trav, from, to)
+        .shortest_path_guided(
+            maps.knowledge().geometry(),
+            trav,
+            from,
+            to,
+            retrieval
+                .guide
+                .and_then(|(source, field)| (source == from).then_some(field)),
+        )
         .ok_or(MoveError::NoPath)?;
     let link = maps.params().link;
     let res = maps.knowledge().geometry().resolution;
