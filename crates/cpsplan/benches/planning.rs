@@ -150,6 +150,20 @@ fn bench_parent_round(group: &mut BenchmarkGroup<'_, WallTime>, m: &MidEpisode) 
     group.bench_function("gain_estimate", |b| {
         b.iter(|| cpsplan::sensing::GainEstimate::new(black_box(k), config))
     });
+    // In an episode the gain estimate's field is kept across scans.
+    let field = cpsplan::sensing::NearField::new(k, config);
+    group.bench_function("plan_parent_kept_field", |b| {
+        b.iter(|| {
+            let mut rng = ChaCha8Rng::seed_from_u64(7);
+            cpsplan::parent::plan_parent_with_field(
+                black_box(k),
+                m.parent,
+                config,
+                &mut rng,
+                Some(&field),
+            )
+        })
+    });
     let mut tour = *config;
     tour.parent.planner = cpsplan::config::Planner::Tour;
     group.bench_function("plan_parent_tour", |b| {

@@ -16,7 +16,7 @@ use crate::config::{number, Config, ConfigError, Planner};
 use crate::geom::{Cell, Point};
 use crate::grid::{CellState, OccupancyGrid};
 use crate::parent::{Decision, ParentPlan};
-use crate::sensing::{scan, ScanOutcome};
+use crate::sensing::{scan, NearField, ScanOutcome};
 use crate::world::CoverageTracker;
 
 /// Why a mission could not start.
@@ -349,10 +349,16 @@ pub fn run_episode_with(
         config.parent.calibration_floor,
     );
     let cell_m2 = g.resolution * g.resolution;
+    // The gain estimate's field, kept up to date scan by scan.
+    let mut near = NearField::new(&knowledge, config);
+    let mut changed: Vec<usize> = Vec::new();
     let stop_reason = loop {
+        changed.clear();
         let outcome = scan(&truth, &mut knowledge, here, config.range_cells(), |i| {
-            tracker.note_seen(i)
+            tracker.note_seen(i);
+            changed.push(i);
         });
+        near.update(&knowledge, &changed);
         clock.scan();
         if steps.is_empty() && config.children.count > 0 {
             children = team::initial_children(&knowledge, here, config);
@@ -363,7 +369,8 @@ pub fn run_episode_with(
         }
         let mut round = *config;
         round.parent.gain_scale *= calibration.factor();
-        let (mut plan, reach, groundwork) = team::plan_round(&knowledge, here, &round, &mut rng);
+        let (mut plan, reach, groundwork) =
+            team::plan_round(&knowledge, here, &round, &mut rng, Some(&near));
         let at_limit = steps.len() + 1 >= config.mission.max_scans;
         // Diminishing returns: what the last scans added against the known area.
         // (Off by default: the known area is only counted when the rule is on.)

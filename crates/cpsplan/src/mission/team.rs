@@ -16,9 +16,10 @@ use crate::grid::travel::sweep;
 use crate::grid::{OccupancyGrid, Terrain, Traversability, UNREACHED};
 use crate::motion::{gvd, Roads};
 use crate::parent::{
-    fallback_candidate, plan_parent_with_reach, reachable_frontier, relocated_candidate,
+    fallback_candidate, plan_parent_with_field, reachable_frontier, relocated_candidate,
     relocations, ParentPlan, ParentReach, CPS_FALLBACK_TRIES, RELOCATE_CANDIDATES,
 };
+use crate::sensing::NearField;
 use crate::subgoals::{MoveError, MovePlan, Retrieval};
 
 /// The part of a step's CPS planning that does not depend on the parent's
@@ -74,15 +75,17 @@ impl Groundwork {
 }
 
 /// The parent's planning round (Eq. 1) and, with children, the groundwork of the
-/// CPS planners computed alongside it.
+/// CPS planners computed alongside it; `near`: the gain estimate's field of
+/// `knowledge` when the caller keeps it ([`plan_parent_with_field`]).
 pub fn plan_round(
     knowledge: &OccupancyGrid,
     here: Cell,
     config: &Config,
     rng: &mut ChaCha8Rng,
+    near: Option<&NearField>,
 ) -> (ParentPlan, ParentReach, Option<Groundwork>) {
     let ((plan, reach), groundwork) = rayon::join(
-        || plan_parent_with_reach(knowledge, here, config, rng),
+        || plan_parent_with_field(knowledge, here, config, rng, near),
         || {
             (config.children.count > 0).then(|| {
                 Groundwork::new(

@@ -33,7 +33,9 @@ pub use border::{border_cells, significant_border};
 pub use candidate::{Candidate, CandidateOrigin};
 pub use fallback::{fallback_candidate, frontier_cells, reachable_frontier, CPS_FALLBACK_TRIES};
 pub use kmeans::{kmeans, Clustering};
-pub use planner::{plan_parent, plan_parent_with_reach, Decision, ParentPlan, ParentReach};
+pub use planner::{
+    plan_parent, plan_parent_with_field, plan_parent_with_reach, Decision, ParentPlan, ParentReach,
+};
 pub use relocation::{
     relocated_candidate, relocations, RELOCATE_CANDIDATES, RELOCATE_RADIUS_M, RELOCATE_SPACING_M,
     RELOCATE_TRIES,

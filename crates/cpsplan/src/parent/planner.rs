@@ -33,7 +33,7 @@ use crate::geom::{polyline_length, Cell, Point};
 use crate::grid::path::{shortcut_path, to_world};
 use crate::grid::travel::sweep;
 use crate::grid::{DistanceField, OccupancyGrid, Traversability, UNREACHED};
-use crate::sensing::{Gain, GainEstimate};
+use crate::sensing::{Gain, GainEstimate, NearField};
 
 /// What the planner decided.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
@@ -116,6 +116,18 @@ pub fn plan_parent_with_reach(
     config: &Config,
     rng: &mut ChaCha8Rng,
 ) -> (ParentPlan, ParentReach) {
+    plan_parent_with_field(knowledge, parent, config, rng, None)
+}
+
+/// [`plan_parent_with_reach`] with the gain estimate's [`NearField`] of
+/// `knowledge` when an episode keeps it up to date (`None`: computed here).
+pub fn plan_parent_with_field(
+    knowledge: &OccupancyGrid,
+    parent: Cell,
+    config: &Config,
+    rng: &mut ChaCha8Rng,
+    near: Option<&NearField>,
+) -> (ParentPlan, ParentReach) {
     let g = *knowledge.geometry();
     let pc = &config.parent;
     let range_cells = config.range_cells();
@@ -126,7 +138,10 @@ pub fn plan_parent_with_reach(
         || {
             let (trav, gain) = rayon::join(
                 || Traversability::new(knowledge, config.robot.radius, parent),
-                || GainEstimate::new(knowledge, config),
+                || match near {
+                    Some(f) => GainEstimate::from_field(f, knowledge, config),
+                    None => GainEstimate::new(knowledge, config),
+                },
             );
             let field = sweep(&g, &trav.passable, &[g.index(parent)], UNREACHED);
             (trav, field, gain)

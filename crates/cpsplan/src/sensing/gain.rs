@@ -14,6 +14,8 @@ use crate::config::Config;
 use crate::geom::Cell;
 use crate::grid::{CellState, OccupancyGrid};
 
+use std::sync::Arc;
+
 use rayon::prelude::*;
 
 use super::visible_cells;
@@ -22,7 +24,7 @@ use super::visible_cells;
 #[derive(Debug, Clone)]
 pub struct GainEstimate {
     /// Unknown cells within `unknown_depth` of a known-Free cell.
-    near: Vec<bool>,
+    near: Arc<Vec<bool>>,
     /// Area of one cell, m².
     cell_m2: f64,
     /// `parent.gain_scale`.
@@ -49,16 +51,20 @@ pub struct Gain {
 impl GainEstimate {
     /// The estimate for `knowledge` with the parameters of `config.parent`.
     pub fn new(knowledge: &OccupancyGrid, config: &Config) -> Self {
+        Self::from_field(&NearField::new(knowledge, config), knowledge, config)
+    }
+
+    /// The estimate from `field`, the [`NearField`] of `knowledge` kept across
+    /// an episode's scans, with the parameters of `config.parent` (the same as
+    /// [`Self::new`], without recomputing the field).
+    pub fn from_field(field: &NearField, knowledge: &OccupancyGrid, config: &Config) -> Self {
         let g = knowledge.geometry();
-        let k = knowledge.cells();
-        let near = near_cells(knowledge, config.parent.unknown_depth / g.resolution);
         let cell_m2 = g.resolution * g.resolution;
-        let free = k.iter().filter(|&&c| c == CellState::Free).count();
         Self {
-            near,
+            near: Arc::clone(&field.near),
             cell_m2,
             scale: config.parent.gain_scale,
-            known_free_m2: free as f64 * cell_m2,
+            known_free_m2: field.free_cells as f64 * cell_m2,
             min_cells: config.parent.min_gain_cells,
             min_m2: config.parent.min_gain_m2,
             min_share: config.parent.min_gain_share,
@@ -159,79 +165,161 @@ impl GainEstimate {
 /// Side of the blocks the near cells are found on, cells.
 const BLOCK: usize = 2;
 
-/// The Unknown cells within `depth` cells of a Free cell, found on blocks of
-/// [`BLOCK`] × [`BLOCK`] cells (a block is free when any of its cells is): an
-/// Unknown cell is near when its block lies within `depth / BLOCK` blocks of a
-/// free block by the 3-4 chamfer distance. The block rounds the depth by at most
+/// The Unknown cells near known free space that the gain estimate counts, and
+/// the known free cells, of one knowledge map: computed once
+/// ([`NearField::new`]) and then kept up to date scan by scan
+/// ([`NearField::update`]) in the window the scan changed, instead of over the
+/// whole map every planning round.
+///
+/// An Unknown cell is near when its block of [`BLOCK`] × [`BLOCK`] cells lies
+/// within `parent.unknown_depth / BLOCK` blocks of a free block (a block with a
+/// Free cell) by the 3-4 chamfer distance. The block rounds the depth by at most
 /// a block's diagonal; a quarter of the cells makes it fast enough for every
-/// planning round. Only the window of the free blocks, widened by the depth, is
-/// transformed, in strips of rows in parallel (a distance up to the limit comes
-/// from at most `pad` rows away, so each strip is exact with that margin).
-fn near_cells(knowledge: &OccupancyGrid, depth: f64) -> Vec<bool> {
-    let g = knowledge.geometry();
-    let k = knowledge.cells();
-    let mut near = vec![false; k.len()];
-    let Some((x0, y0, x1, y1)) = knowledge.bounds_of(|c| c == CellState::Free) else {
-        return near;
-    };
-    let (bw, bh) = (g.width.div_ceil(BLOCK), g.height.div_ceil(BLOCK));
-    let depth_b = depth.max(0.0) / BLOCK as f64;
-    let pad = (depth_b.ceil() as usize).saturating_add(1);
-    let (bx0, by0) = (
-        (x0 / BLOCK).saturating_sub(pad),
-        (y0 / BLOCK).saturating_sub(pad),
-    );
-    let (bx1, by1) = (
-        (x1 / BLOCK).saturating_add(pad).min(bw - 1),
-        (y1 / BLOCK).saturating_add(pad).min(bh - 1),
-    );
-    let (ww, wh) = (bx1 - bx0 + 1, by1 - by0 + 1);
-    // Free blocks of the window.
-    let mut free = vec![false; ww * wh];
-    for (y, row) in k.chunks(g.width).enumerate() {
-        let by = y / BLOCK;
-        if by < by0 || by > by1 {
-            continue;
+/// planning round.
+#[derive(Debug, Clone)]
+pub struct NearField {
+    /// Per cell: Unknown and near.
+    near: Arc<Vec<bool>>,
+    /// Per block: within the depth of a free block.
+    within: Vec<bool>,
+    /// Blocks per row and column.
+    bw: usize,
+    bh: usize,
+    /// The chamfer limit of the depth, and the blocks beyond the depth a
+    /// window needs.
+    limit: u16,
+    pad: usize,
+    /// Known-Free cells.
+    free_cells: usize,
+}
+
+impl NearField {
+    /// The field of `knowledge` with the depth `config.parent.unknown_depth`.
+    /// Only the window of the free blocks, widened by the depth, is
+    /// transformed.
+    pub fn new(knowledge: &OccupancyGrid, config: &Config) -> Self {
+        let g = knowledge.geometry();
+        let k = knowledge.cells();
+        let depth_b = (config.parent.unknown_depth / g.resolution).max(0.0) / BLOCK as f64;
+        let (bw, bh) = (g.width.div_ceil(BLOCK), g.height.div_ceil(BLOCK));
+        let mut field = Self {
+            near: Arc::new(vec![false; k.len()]),
+            within: vec![false; bw * bh],
+            bw,
+            bh,
+            limit: chamfer_limit(depth_b),
+            pad: (depth_b.ceil() as usize).saturating_add(1),
+            free_cells: k.iter().filter(|&&c| c == CellState::Free).count(),
+        };
+        if let Some(b) = knowledge.bounds_of(|c| c == CellState::Free) {
+            field.transform(knowledge, b);
         }
-        for (x, &c) in row.iter().enumerate() {
-            let bx = x / BLOCK;
-            if c == CellState::Free && (bx0..=bx1).contains(&bx) {
-                free[(by - by0) * ww + bx - bx0] = true;
+        field
+    }
+
+    /// Brings the field up to date after a scan: `changed` are the cells that
+    /// were Unknown before it (what [`crate::sensing::scan`] reports as new).
+    /// Knowledge only grows, so the near blocks only grow too: the window of the
+    /// cells that became Free, widened by the depth, holds every block that can
+    /// join, and the transform there (of every free block in it) finds exactly
+    /// those. The result equals [`Self::new`] of the updated map.
+    pub fn update(&mut self, knowledge: &OccupancyGrid, changed: &[usize]) {
+        let g = knowledge.geometry();
+        let k = knowledge.cells();
+        let near = Arc::make_mut(&mut self.near);
+        let mut bounds: Option<(usize, usize, usize, usize)> = None;
+        for &i in changed {
+            near[i] = k[i] == CellState::Unknown && near[i];
+            if k[i] == CellState::Free {
+                self.free_cells += 1;
+                let (x, y) = (i % g.width, i / g.width);
+                bounds = Some(match bounds {
+                    None => (x, y, x, y),
+                    Some((x0, y0, x1, y1)) => (x0.min(x), y0.min(y), x1.max(x), y1.max(y)),
+                });
             }
+        }
+        if let Some(b) = bounds {
+            self.transform(knowledge, b);
         }
     }
-    let limit = chamfer_limit(depth_b);
-    let strip = wh
-        .div_ceil(rayon::current_num_threads().max(1))
-        .max(4 * pad);
-    let strips: Vec<(usize, Vec<bool>)> = (0..wh.div_ceil(strip))
-        .into_par_iter()
-        .map(|s| {
-            let (r0, r1) = (s * strip, ((s + 1) * strip).min(wh));
-            let (m0, m1) = (r0.saturating_sub(pad), (r1 + pad).min(wh));
-            let d = chamfer(ww, m1 - m0, |x, y| free[(y + m0) * ww + x]);
-            let within = d[(r0 - m0) * ww..(r1 - m0) * ww]
-                .iter()
-                .map(|&v| v <= limit)
-                .collect();
-            (r0, within)
-        })
-        .collect();
-    for (r0, within) in strips {
-        for (j, &w) in within.iter().enumerate() {
-            if !w {
-                continue;
+
+    /// Marks the blocks within the depth of the free blocks of the window
+    /// around the cells `x0..=x1`, `y0..=y1` (widened by the depth), and the
+    /// Unknown cells of the blocks that join. The window is transformed in
+    /// strips of rows in parallel: a distance up to the limit comes from at most
+    /// `pad` rows away, so each strip is exact with that margin.
+    fn transform(
+        &mut self,
+        knowledge: &OccupancyGrid,
+        (x0, y0, x1, y1): (usize, usize, usize, usize),
+    ) {
+        let g = knowledge.geometry();
+        let k = knowledge.cells();
+        let (pad, limit, bw) = (self.pad, self.limit, self.bw);
+        let (bx0, by0) = (
+            (x0 / BLOCK).saturating_sub(pad),
+            (y0 / BLOCK).saturating_sub(pad),
+        );
+        let (bx1, by1) = (
+            (x1 / BLOCK).saturating_add(pad).min(bw - 1),
+            (y1 / BLOCK).saturating_add(pad).min(self.bh - 1),
+        );
+        let (ww, wh) = (bx1 - bx0 + 1, by1 - by0 + 1);
+        // Free blocks of the window.
+        let mut free = vec![false; ww * wh];
+        for y in by0 * BLOCK..((by1 + 1) * BLOCK).min(g.height) {
+            let row = &k[y * g.width..(y + 1) * g.width];
+            let by = y / BLOCK - by0;
+            for x in bx0 * BLOCK..((bx1 + 1) * BLOCK).min(g.width) {
+                if row[x] == CellState::Free {
+                    free[by * ww + x / BLOCK - bx0] = true;
+                }
             }
-            let (bx, by) = (bx0 + j % ww, by0 + r0 + j / ww);
-            for y in by * BLOCK..((by + 1) * BLOCK).min(g.height) {
-                for x in bx * BLOCK..((bx + 1) * BLOCK).min(g.width) {
-                    let i = y * g.width + x;
-                    near[i] = k[i] == CellState::Unknown;
+        }
+        let strip = wh
+            .div_ceil(rayon::current_num_threads().max(1))
+            .max(4 * pad);
+        let strips: Vec<(usize, Vec<bool>)> = (0..wh.div_ceil(strip))
+            .into_par_iter()
+            .map(|s| {
+                let (r0, r1) = (s * strip, ((s + 1) * strip).min(wh));
+                let (m0, m1) = (r0.saturating_sub(pad), (r1 + pad).min(wh));
+                let d = chamfer(ww, m1 - m0, |x, y| free[(y + m0) * ww + x]);
+                let within = d[(r0 - m0) * ww..(r1 - m0) * ww]
+                    .iter()
+                    .map(|&v| v <= limit)
+                    .collect();
+                (r0, within)
+            })
+            .collect();
+        let near = Arc::make_mut(&mut self.near);
+        for (r0, within) in strips {
+            for (j, &w) in within.iter().enumerate() {
+                let (bx, by) = (bx0 + j % ww, by0 + r0 + j / ww);
+                if !w || self.within[by * bw + bx] {
+                    continue;
+                }
+                self.within[by * bw + bx] = true;
+                for y in by * BLOCK..((by + 1) * BLOCK).min(g.height) {
+                    for x in bx * BLOCK..((bx + 1) * BLOCK).min(g.width) {
+                        let i = y * g.width + x;
+                        near[i] = k[i] == CellState::Unknown;
+                    }
                 }
             }
         }
     }
-    near
+
+    /// Per cell: Unknown and near known free space.
+    pub fn near(&self) -> &[bool] {
+        &self.near
+    }
+
+    /// The known-Free cells.
+    pub fn free_cells(&self) -> usize {
+        self.free_cells
+    }
 }
 
 /// The chamfer distance of `depth` cells, in the units of [`chamfer`].
@@ -339,6 +427,53 @@ mod tests {
             for at in [Cell::new(3, 3), Cell::new(12, 9), Cell::new(20, 15)] {
                 let full = e.worth_a_scan(&e.at(&k, at, 8.0));
                 proptest::prop_assert_eq!(e.worth_at(&k, at, 8.0), full);
+            }
+        }
+    }
+
+    proptest::proptest! {
+        #![proptest_config(proptest::prelude::ProptestConfig::with_cases(64))]
+        /// Kept up to date scan by scan, the field equals the field computed
+        /// from scratch after every scan, and so does the estimate from it.
+        #[test]
+        fn updated_field_equals_a_fresh_one(
+            cells in proptest::collection::vec(0u8..10, 50 * 36),
+            stops in proptest::collection::vec((0usize..50, 0usize..36), 1..8),
+            depth in 0.0f64..1.5,
+            range in 3.0f64..30.0,
+        ) {
+            let g = GridGeometry::new(50, 36, 0.1, Point::default());
+            // Seven in ten Free, two Occupied, one Unknown (never seen).
+            let states = cells
+                .iter()
+                .map(|&c| match c {
+                    0..=6 => CellState::Free,
+                    7 | 8 => CellState::Occupied,
+                    _ => CellState::Unknown,
+                })
+                .collect();
+            let truth = OccupancyGrid::from_cells(g, states).expect("sizes match");
+            let mut knowledge = OccupancyGrid::filled(g, CellState::Unknown);
+            let mut config = Config::default();
+            config.parent.unknown_depth = depth;
+            let mut field = NearField::new(&knowledge, &config);
+            for (x, y) in stops {
+                let mut changed = Vec::new();
+                crate::sensing::scan(&truth, &mut knowledge, Cell::new(x, y), range, |i| {
+                    changed.push(i)
+                });
+                field.update(&knowledge, &changed);
+                let fresh = NearField::new(&knowledge, &config);
+                proptest::prop_assert_eq!(field.near(), fresh.near());
+                proptest::prop_assert_eq!(field.free_cells(), fresh.free_cells());
+                proptest::prop_assert_eq!(&field.within, &fresh.within);
+                let (a, b) = (
+                    GainEstimate::from_field(&field, &knowledge, &config),
+                    GainEstimate::new(&knowledge, &config),
+                );
+                let at = Cell::new(x, y);
+                proptest::prop_assert_eq!(a.at(&knowledge, at, range), b.at(&knowledge, at, range));
+                proptest::prop_assert_eq!(a.known_free_m2(), b.known_free_m2());
             }
         }
     }

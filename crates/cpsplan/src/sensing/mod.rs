@@ -20,7 +20,7 @@ mod shadowcast;
 mod sight;
 mod view;
 
-pub use gain::{Gain, GainEstimate};
+pub use gain::{Gain, GainEstimate, NearField};
 pub use scanner::{expected_gain, scan, seen_walls, ScanOutcome};
 pub use shadowcast::visible_cells;
 pub use sight::{sight_clear, LinkRule, SightField};
