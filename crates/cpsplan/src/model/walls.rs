@@ -95,10 +95,13 @@ impl GroundTruthWalls {
             return f64::INFINITY;
         }
         let k = ((reach + 2.5).ceil() as i64).min(g.width.max(g.height) as i64);
-        let mut best = f64::INFINITY;
+        // Squared distances: one square root at the end instead of a `hypot`
+        // per square.
+        let mut best2 = f64::INFINITY;
         for y in (cy - k).max(0)..=(cy + k).min(g.height as i64 - 1) {
             let dy = (y as f64 - fy).max(fy - (y as f64 + 1.0)).max(0.0);
-            if dy >= best {
+            let dy2 = dy * dy;
+            if dy2 >= best2 {
                 continue;
             }
             let row = y as usize * g.width;
@@ -107,10 +110,10 @@ impl GroundTruthWalls {
                     continue;
                 }
                 let dx = (x as f64 - fx).max(fx - (x as f64 + 1.0)).max(0.0);
-                best = best.min(dx.hypot(dy));
+                best2 = best2.min(dx * dx + dy2);
             }
         }
-        best
+        best2.sqrt()
     }
 }
 
