@@ -8,13 +8,13 @@
 //!
 //! - Candidate stations: drivable cells reachable from the start on a lattice
 //!   (`bound.spacing`, 1 m unless the site is large) and beside the obstacles'
-//!   convex corners ([`stations`]).
+//!   convex corners ([`lattice_stations`], [`corner_stations`]).
 //! - Targets: the free cells the exploring planner's coverage counts (reachable
 //!   free space, [`crate::world::CoverageTracker`]), on a sub-lattice when there
 //!   are very many; *coverable*: seen from at least one candidate.
 //! - Visibility: the scanner's own rule ([`crate::sensing::visible_cells`] on the
 //!   ground truth, within the range).
-//! - [`lazy_greedy`]: the cover. [`dual`]: the lower bound. Both count stations drawn
+//! - [`lazy_greedy`]: the cover. [`lower_bound`]: the lower bound. Both count stations drawn
 //!   from the same candidates.
 
 mod dual;

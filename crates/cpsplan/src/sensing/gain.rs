@@ -171,8 +171,8 @@ const BLOCK: usize = 2;
 /// ([`NearField::update`]) in the window the scan changed, instead of over the
 /// whole map every planning round.
 ///
-/// An Unknown cell is near when its block of [`BLOCK`] × [`BLOCK`] cells lies
-/// within `parent.unknown_depth / BLOCK` blocks of a free block (a block with a
+/// An Unknown cell is near when its block of 2 × 2 cells lies
+/// within `parent.unknown_depth / 2` blocks of a free block (a block with a
 /// Free cell) by the 3-4 chamfer distance. The block rounds the depth by at most
 /// a block's diagonal; a quarter of the cells makes it fast enough for every
 /// planning round.

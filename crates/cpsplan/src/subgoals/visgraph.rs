@@ -199,7 +199,7 @@ impl VisibilityGraph {
     /// [`Self::shortest_path`], with `guide` the travel distances from `from`
     /// over `trav.passable` when known (the parent's planning round has them): the
     /// search then runs from `to` back to `from` with those distances, shrunk by
-    /// [`GUIDE_FACTOR`], as its bound to go, which leaves it consistent but far
+    /// 1.0825 (`GUIDE_FACTOR`), as its bound to go, which leaves it consistent but far
     /// tighter than the straight line in winding free space, and never expands a
     /// vertex that cannot reach `from`. The path is as short as without the
     /// guide (among equally short ones, another may be returned).
