@@ -56,9 +56,13 @@ pub struct SummaryRecord<'a> {
     /// The episode's totals (scans, coverage, travel, stop reason, seed, CPS counts).
     #[serde(flatten)]
     pub summary: &'a Summary,
-    /// Wall-clock time of the simulation, milliseconds (the only field that varies
-    /// between identical runs).
+    /// Wall-clock time of the simulation, milliseconds (with `peak_memory_mb`,
+    /// the only fields that vary between identical runs).
     pub wall_ms: f64,
+    /// The process's peak resident memory when the report was written (the
+    /// simulation, the 3D model and the pictures), MB: `VmHWM` of
+    /// `/proc/self/status`; `null` where the system does not report it.
+    pub peak_memory_mb: Option<f64>,
     /// The start, world frame.
     pub start: Point,
     /// Planning resolution, metres.
@@ -413,6 +417,21 @@ fn remove_stale(parent: &Path, name: &str) {
     }
 }
 
+/// The process's peak resident memory so far, MB (`VmHWM` of
+/// `/proc/self/status`; `None` where there is no such file or line).
+pub fn peak_memory_mb() -> Option<f64> {
+    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    parse_peak_kb(&status).map(|kb| (kb as f64 / 1024.0 * 10.0).round() / 10.0)
+}
+
+/// The `VmHWM` line of a `/proc/PID/status` text, kB.
+fn parse_peak_kb(status: &str) -> Option<u64> {
+    let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
+    let mut words = line["VmHWM:".len()..].split_whitespace();
+    let kb = words.next()?.parse().ok()?;
+    (words.next() == Some("kB")).then_some(kb)
+}
+
 /// Writes every output of an episode into `dir` (created if needed).
 pub fn write_episode_outputs(
     dir: &Path,
@@ -426,10 +445,11 @@ pub fn write_episode_outputs(
         .with_context(|| format!("cannot create directory {}", dir.display()))?;
     let g = truth.geometry();
     let s = &episode.summary;
-    let summary = SummaryRecord {
+    let mut summary = SummaryRecord {
         map: source.record(),
         summary: s,
         wall_ms: (wall_ms * 1000.0).round() / 1000.0,
+        peak_memory_mb: None,
         start: episode.start,
         resolution: g.resolution,
         model: model.map(|m| {
@@ -477,9 +497,26 @@ pub fn write_episode_outputs(
     if let Some(k) = &episode.knowledge {
         save_map(k, &dir.join("knowledge.yaml"))?;
     }
+    // Last, when everything else has been drawn and written.
+    summary.peak_memory_mb = peak_memory_mb();
     write_atomic(
         &dir.join("summary.json"),
         &serde_json::to_vec_pretty(&summary)?,
     )?;
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_peak_is_read_from_the_vmhwm_line() {
+        let status =
+            "Name:\tcpsplan\nVmPeak:\t  300000 kB\nVmHWM:\t  150976 kB\nVmRSS:\t 1000 kB\n";
+        assert_eq!(parse_peak_kb(status), Some(150_976));
+        assert_eq!(parse_peak_kb("Name:\tx\nVmRSS:\t 1000 kB\n"), None);
+        assert_eq!(parse_peak_kb("VmHWM:\t  12 MB\n"), None);
+        assert_eq!(parse_peak_kb("VmHWM:\t  lots kB\n"), None);
+    }
 }

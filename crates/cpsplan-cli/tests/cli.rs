@@ -123,6 +123,13 @@ fn explore_builtin_site_writes_every_output() {
     for key in ["parent_travel_m", "seed", "wall_ms"] {
         assert!(s.get(key).is_some(), "summary lacks {key}");
     }
+    // The process's peak memory, where the system reports it.
+    let peak = s["peak_memory_mb"].as_f64();
+    if cfg!(target_os = "linux") {
+        assert!(peak.is_some_and(|mb| mb > 1.0 && mb < 4096.0), "{s}");
+    } else {
+        assert!(s.get("peak_memory_mb").is_some(), "{s}");
+    }
     // The campaign clock: its parts add up, the scans take 3 minutes each.
     let t = &s["campaign_time"];
     let parts: f64 = ["scan_h", "measure_h", "drive_h"]
