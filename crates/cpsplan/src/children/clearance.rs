@@ -16,16 +16,7 @@ use crate::grid::{CellState, OccupancyGrid};
 pub fn clearances(knowledge: &OccupancyGrid, cells: &[u32], cap: f64) -> Vec<f64> {
     let g = knowledge.geometry();
     let w = g.width;
-    let Some(bounds) = cells
-        .iter()
-        .fold(None, |b: Option<(usize, usize, usize, usize)>, &i| {
-            let (x, y) = (i as usize % w, i as usize / w);
-            Some(match b {
-                None => (x, y, x, y),
-                Some((x0, y0, x1, y1)) => (x0.min(x), y0.min(y), x1.max(x), y1.max(y)),
-            })
-        })
-    else {
+    let Some(bounds) = g.index_bounds(cells.iter().map(|&i| i as usize)) else {
         return Vec::new();
     };
     let res = g.resolution;

@@ -82,6 +82,21 @@ impl GridGeometry {
         Cell::new(index % self.width, index / self.width)
     }
 
+    /// Inclusive bounds `(x0, y0, x1, y1)` of the cells with grid indices
+    /// `indices`, if any.
+    pub fn index_bounds(
+        &self,
+        indices: impl IntoIterator<Item = usize>,
+    ) -> Option<(usize, usize, usize, usize)> {
+        indices.into_iter().fold(None, |b, i| {
+            let c = self.cell(i);
+            Some(match b {
+                None => (c.x, c.y, c.x, c.y),
+                Some((x0, y0, x1, y1)) => (x0.min(c.x), y0.min(c.y), x1.max(c.x), y1.max(c.y)),
+            })
+        })
+    }
+
     /// The cell at signed coordinates, if inside the grid.
     #[inline]
     pub fn checked_cell(&self, x: i64, y: i64) -> Option<Cell> {

@@ -373,7 +373,6 @@ pub fn run_episode_with(
             team::plan_round(&knowledge, here, &round, &mut rng, Some(&near));
         let at_limit = steps.len() + 1 >= config.mission.max_scans;
         // Diminishing returns: what the last scans added against the known area.
-        // (Off by default: the known area is only counted when the rule is on.)
         let window = config.mission.stop_window;
         let diminishing = window > 0 && steps.len() + 1 >= window && {
             let recent = gain_m2
@@ -383,7 +382,7 @@ pub fn run_episode_with(
                     .take(window - 1)
                     .map(|s| s.gain_m2)
                     .sum::<f64>();
-            let known_free = knowledge.count(CellState::Free) as f64 * cell_m2;
+            let known_free = near.free_cells() as f64 * cell_m2;
             recent < config.mission.stop_share * known_free
         };
         let (movement, moved) = match plan.decision {

@@ -227,19 +227,12 @@ impl NearField {
         let g = knowledge.geometry();
         let k = knowledge.cells();
         let near = Arc::make_mut(&mut self.near);
-        let mut bounds: Option<(usize, usize, usize, usize)> = None;
         for &i in changed {
             near[i] = k[i] == CellState::Unknown && near[i];
-            if k[i] == CellState::Free {
-                self.free_cells += 1;
-                let (x, y) = (i % g.width, i / g.width);
-                bounds = Some(match bounds {
-                    None => (x, y, x, y),
-                    Some((x0, y0, x1, y1)) => (x0.min(x), y0.min(y), x1.max(x), y1.max(y)),
-                });
-            }
         }
-        if let Some(b) = bounds {
+        let made_free = || changed.iter().copied().filter(|&i| k[i] == CellState::Free);
+        self.free_cells += made_free().count();
+        if let Some(b) = g.index_bounds(made_free()) {
             self.transform(knowledge, b);
         }
     }

@@ -147,24 +147,24 @@ impl VisibilityGraph {
     /// every vertex whose straight leg from `v` is drivable, sorted by the other
     /// vertex (`O(V·L)`, in parallel).
     pub fn neighbours(&self, v: usize) -> Vec<(usize, f64)> {
-        let all: Vec<usize> = (0..self.vertices.len()).collect();
-        self.neighbours_among(v, &all)
-    }
-
-    /// [`Self::neighbours`] among the vertices `among` (ascending).
-    fn neighbours_among(&self, v: usize, among: &[usize]) -> Vec<(usize, f64)> {
-        let g = &self.geometry;
         let a = self.vertices[v];
-        let drivable = &self.drivable;
-        among
-            .par_iter()
-            .filter(|&&j| j != v)
-            .filter_map(|&j| {
-                let b = self.vertices[j];
-                segment_clear(g, a, b, |k| drivable[k])
-                    .then(|| (j, cell_distance(a, b) * g.resolution))
+        (0..self.vertices.len())
+            .into_par_iter()
+            .filter(|&j| j != v && self.leg_clear(v, j))
+            .map(|j| {
+                (
+                    j,
+                    cell_distance(a, self.vertices[j]) * self.geometry.resolution,
+                )
             })
             .collect()
+    }
+
+    /// Whether the straight leg between vertices `a` and `b` is drivable.
+    fn leg_clear(&self, a: usize, b: usize) -> bool {
+        segment_clear(&self.geometry, self.vertices[a], self.vertices[b], |k| {
+            self.drivable[k]
+        })
     }
 
     /// Number of (undirected) edges (computes every vertex's neighbours).
@@ -350,7 +350,6 @@ impl VisibilityGraph {
         // tested. The first valid entry of a vertex has its least cost, as in
         // plain A* with a consistent bound, so the path is as short; most legs
         // of a cluttered map, blocked or too long, are never tested.
-        let geo = &self.geometry;
         // The bound of every node taking part, looked up once.
         let mut bound = vec![f64::INFINITY; all];
         for &v in among {
@@ -375,11 +374,7 @@ impl VisibilityGraph {
             if done[node] {
                 continue;
             }
-            if !e.tested
-                && !segment_clear(geo, self.vertices[e.from], self.vertices[node], |k| {
-                    self.drivable[k]
-                })
-            {
+            if !e.tested && !self.leg_clear(e.from, node) {
                 continue;
             }
             done[node] = true;
@@ -729,7 +724,7 @@ mod tests {
             let g = *map.geometry();
             let (a, rest) = (Cell::new(ends[0].0, ends[0].1), &ends[1..]);
             let (trav, graph) = setup(&map, a);
-            let guide = travel::sweep(&g, &trav.passable, &[g.index(a)], UNREACHED);
+            let guide = travel::sweep(&g, &trav.passable, &[g.index(a)], travel::UNREACHED);
             for &(x, y) in rest {
                 let b = Cell::new(x, y);
                 let plain = graph.shortest_path(&g, &trav, a, b);
