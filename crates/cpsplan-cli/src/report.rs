@@ -8,14 +8,14 @@ use std::io::Write;
 use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result};
-use cpsplan::mission::{Episode, StopReason, Summary};
+use cpsplan::mission::{Episode, MemoryEstimate, StopReason, Summary};
 use cpsplan::model::{ModelAccuracy, RegisteredModel};
 use cpsplan::world::builtin::BuiltinMap;
-use cpsplan::{Config, OccupancyGrid, Point};
+use cpsplan::{Config, GridGeometry, OccupancyGrid, Point};
 use serde::Serialize;
 
 use crate::formats::rosmap::save_map;
-use crate::render::{error_chart, render_episode, render_episode_large};
+use crate::render::{error_chart, pictures_peak_bytes, render_episode_pictures};
 
 /// Where the ground truth came from.
 #[derive(Debug, Clone)]
@@ -63,6 +63,9 @@ pub struct SummaryRecord<'a> {
     /// simulation, the 3D model and the pictures), MB: `VmHWM` of
     /// `/proc/self/status`; `null` where the system does not report it.
     pub peak_memory_mb: Option<f64>,
+    /// The peak memory as estimated before the run ([`MemoryEstimate`]), at the
+    /// scans the run took and with the pictures it drew, MB.
+    pub estimated_memory_mb: f64,
     /// The start, world frame.
     pub start: Point,
     /// Planning resolution, metres.
@@ -424,10 +427,31 @@ pub fn peak_memory_mb() -> Option<f64> {
     parse_peak_kb(&status).map(|kb| (kb as f64 / 1024.0 * 10.0).round() / 10.0)
 }
 
+/// The memory the machine has available for a new run, MB (`MemAvailable` of
+/// `/proc/meminfo`; `None` where there is no such file or line).
+pub fn available_memory_mb() -> Option<f64> {
+    let info = std::fs::read_to_string("/proc/meminfo").ok()?;
+    parse_kb(&info, "MemAvailable:").map(|kb| kb as f64 / 1024.0)
+}
+
+/// The estimated peak memory of `episode`'s run on a grid of `geometry`, MB,
+/// as [`MemoryEstimate`] gives it before the run, at the scans it took and with
+/// the pictures it drew (`large`: `map-large.png` too).
+pub fn estimated_memory_mb(geometry: &GridGeometry, episode: &Episode, large: bool) -> f64 {
+    let e = MemoryEstimate::for_grid(geometry.width, geometry.height, &episode.config)
+        .with_pictures(pictures_peak_bytes(geometry, large));
+    (e.mb(episode.steps.len()) * 10.0).round() / 10.0
+}
+
 /// The `VmHWM` line of a `/proc/PID/status` text, kB.
 fn parse_peak_kb(status: &str) -> Option<u64> {
-    let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
-    let mut words = line["VmHWM:".len()..].split_whitespace();
+    parse_kb(status, "VmHWM:")
+}
+
+/// The value of the line starting with `key` of a `/proc` text in kB.
+fn parse_kb(text: &str, key: &str) -> Option<u64> {
+    let line = text.lines().find(|l| l.starts_with(key))?;
+    let mut words = line[key.len()..].split_whitespace();
     let kb = words.next()?.parse().ok()?;
     (words.next() == Some("kB")).then_some(kb)
 }
@@ -450,6 +474,7 @@ pub fn write_episode_outputs(
         summary: s,
         wall_ms: (wall_ms * 1000.0).round() / 1000.0,
         peak_memory_mb: None,
+        estimated_memory_mb: 0.0,
         start: episode.start,
         resolution: g.resolution,
         model: model.map(|m| {
@@ -471,8 +496,8 @@ pub fn write_episode_outputs(
         episode,
     };
     let title = format!("cpsplan explore — {}", source.label());
-    let png = render_episode(truth, episode, &title)?;
-    let large = render_episode_large(truth, episode, &title)?;
+    let (png, large) = render_episode_pictures(truth, episode, &title)?;
+    summary.estimated_memory_mb = estimated_memory_mb(g, episode, large.is_some());
     let chart = error_chart(
         episode,
         &format!("positioning error \u{2014} {}", source.label()),

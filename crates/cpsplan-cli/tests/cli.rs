@@ -130,6 +130,12 @@ fn explore_builtin_site_writes_every_output() {
     } else {
         assert!(s.get("peak_memory_mb").is_some(), "{s}");
     }
+    // The estimate made before the run, at the scans it took: within a factor
+    // of two of the measured peak on this small map.
+    let estimate = s["estimated_memory_mb"].as_f64().unwrap();
+    if let Some(mb) = peak {
+        assert!(estimate > mb / 2.0 && estimate < mb * 2.0, "{s}");
+    }
     // The campaign clock: its parts add up, the scans take 3 minutes each.
     let t = &s["campaign_time"];
     let parts: f64 = ["scan_h", "measure_h", "drive_h"]

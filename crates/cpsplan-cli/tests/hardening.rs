@@ -179,6 +179,36 @@ fn grids_beyond_the_cell_limit_are_refused_before_allocation() {
 }
 
 #[test]
+fn runs_beyond_the_memory_limit_are_refused_before_they_start() {
+    let t = tempfile::tempdir().unwrap();
+    let out = t.path().join("out");
+    // The built-in site's estimate is some tens of MB: a limit of 5 MB refuses
+    // it, with the estimate and the limit in the message.
+    let c = write(t.path(), "m.toml", "[limits]\nmax_memory_mb = 5\n");
+    refused_with(
+        &["explore", "--config", s(&c), "--out", s(&out)],
+        &["limits.max_memory_mb", "(5 MB)", "estimated to need"],
+    );
+    assert!(!out.exists());
+    // A generous limit lets it run (a short run: two scans).
+    let c = write(t.path(), "g.toml", "[limits]\nmax_memory_mb = 100000\n");
+    cpsplan()
+        .args([
+            "explore",
+            "--quiet",
+            "--max-scans",
+            "2",
+            "--config",
+            s(&c),
+            "--out",
+            s(&out),
+        ])
+        .assert()
+        .success();
+    assert!(out.join("summary.json").is_file());
+}
+
+#[test]
 fn huge_counts_are_refused() {
     let t = tempfile::tempdir().unwrap();
     let out = t.path().join("out");

@@ -10,7 +10,7 @@ use cpsplan::model::{build_model, ModelPoint, RegisteredModel};
 use cpsplan::{run_episode_with, Config, StopReason};
 use indicatif::{ProgressBar, ProgressStyle};
 
-use super::{load_truth, read_config, validate};
+use super::{check_memory, load_truth, read_config, validate};
 use crate::cli::{ExploreArgs, ScoringArg};
 use crate::formats::cloud::{encode_las, encode_ply, encode_stations_ply};
 use crate::render::{render_step, StepView};
@@ -110,6 +110,7 @@ pub fn run(args: &ExploreArgs) -> Result<()> {
     let report = ReportDir::create(&args.out)?;
     let (truth, source, start) =
         load_truth(args.map.as_deref(), args.builtin, args.start, &config)?;
+    check_memory(&truth, &config)?;
     let bar = if args.quiet {
         ProgressBar::hidden()
     } else {

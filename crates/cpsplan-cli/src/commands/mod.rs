@@ -11,13 +11,15 @@ pub mod plan;
 use std::path::Path;
 
 use anyhow::{anyhow, bail, Result};
+use cpsplan::mission::MemoryEstimate;
 use cpsplan::world::builtin::BuiltinMap;
 use cpsplan::world::{default_start, resample_for};
 use cpsplan::{Config, OccupancyGrid, Point};
 
 use crate::formats::config::{read_config_file, ConfigFile};
 use crate::formats::rosmap::{load_any_with, ReadLimits};
-use crate::report::MapSource;
+use crate::render::pictures_peak_bytes;
+use crate::report::{available_memory_mb, MapSource};
 
 /// Reads a TOML configuration file, or the defaults.
 pub(crate) fn read_config(path: Option<&Path>) -> Result<ConfigFile> {
@@ -53,6 +55,18 @@ pub(crate) fn validate(config: &Config, flags: &[(&str, &str, bool)]) -> Result<
 pub(crate) fn load_planning_grid(path: &Path, config: &Config) -> Result<OccupancyGrid> {
     let grid = load_any_with(path, config.resolution, &ReadLimits::for_config(config))?;
     resample_for(&grid, config).map_err(|e| anyhow!("{}: {e}", path.display()))
+}
+
+/// Refuses a run on `truth` under `config` whose estimated peak memory
+/// ([`MemoryEstimate`], one scan, pictures at their largest) exceeds
+/// `limits.max_memory_mb` or, without that limit, the machine's available memory.
+pub(crate) fn check_memory(truth: &OccupancyGrid, config: &Config) -> Result<()> {
+    let g = truth.geometry();
+    let estimate = MemoryEstimate::for_grid(g.width, g.height, config)
+        .with_pictures(pictures_peak_bytes(g, true));
+    config
+        .check_memory(estimate.mb(1), available_memory_mb())
+        .map_err(|e| anyhow!(e))
 }
 
 /// Loads the ground truth at the planning resolution from `map`, or the built-in

@@ -5,7 +5,7 @@
 
 use cpsplan::mission::CycleRecord;
 use cpsplan::world::CoverageTracker;
-use cpsplan::{CellState, Episode, OccupancyGrid};
+use cpsplan::{CellState, Episode, GridGeometry, OccupancyGrid};
 
 use super::axes::{draw_origin, origin_on_map, origin_radius, Axes};
 use super::chrome::{Header, LegendItem, Style, Swatch};
@@ -68,24 +68,73 @@ pub fn render_episode_large(
     episode: &Episode,
     title: &str,
 ) -> Result<Option<Vec<u8>>, RenderError> {
+    Ok(render_episode_pictures(truth, episode, title)?.1)
+}
+
+/// Both pictures of an episode: [`render_episode`]'s and
+/// [`render_episode_large`]'s, the normal one drawn once, and at most one picture
+/// held in memory at a time (the larger sizes are known before they are drawn).
+pub fn render_episode_pictures(
+    truth: &OccupancyGrid,
+    episode: &Episode,
+    title: &str,
+) -> Result<(Vec<u8>, Option<Vec<u8>>), RenderError> {
     let normal = draw_episode_figure(truth, episode, title, 1)?;
+    let png = normal.frame.canvas.encode()?;
     if normal.labels.omitted == 0 {
-        return Ok(None);
+        return Ok((png, None));
     }
-    let mut best = None;
+    let view = normal.window.geometry(truth.geometry());
+    drop(normal);
+    let mut best: Option<EpisodeFigure> = None;
     for zoom in 2..=4 {
-        let fig = draw_episode_figure(truth, episode, title, zoom)?;
-        let (w, h) = (fig.frame.layout.width_px, fig.frame.layout.height_px);
-        if w.max(h) > LARGE_MAX_PX && best.is_some() {
+        let layout = zoomed_layout(&view, zoom);
+        if layout.width_px.max(layout.height_px) > LARGE_MAX_PX && best.is_some() {
             break;
         }
+        // The new picture is larger and numbers more: the last one can go first.
+        drop(best.take());
+        let fig = draw_episode_figure(truth, episode, title, zoom)?;
         let done = fig.labels.omitted == 0;
         best = Some(fig);
         if done {
             break;
         }
     }
-    best.map(|f| f.frame.canvas.encode()).transpose()
+    let large = best.map(|f| f.frame.canvas.encode()).transpose()?;
+    Ok((png, large))
+}
+
+/// The most bytes the episode pictures of a grid of `geometry` take while they
+/// are drawn, before the run has cropped them: the largest canvas
+/// [`render_episode_pictures`] may draw (the normal one only, unless `large`),
+/// with a quarter more for the header and the axes, and its PNG encoding (about
+/// two fifths of the canvas again).
+pub fn pictures_peak_bytes(geometry: &GridGeometry, large: bool) -> u64 {
+    let canvas = |l: &MapLayout| {
+        let px = (l.width_px.max(1) as u64).saturating_mul(l.height_px.max(1) as u64);
+        px.saturating_mul(4).saturating_mul(5) / 4
+    };
+    let mut largest = canvas(&zoomed_layout(geometry, 1));
+    for zoom in (2..=4).filter(|_| large) {
+        let layout = zoomed_layout(geometry, zoom);
+        if layout.width_px.max(layout.height_px) > LARGE_MAX_PX && zoom > 2 {
+            break;
+        }
+        largest = largest.max(canvas(&layout));
+    }
+    largest.saturating_mul(7) / 5
+}
+
+/// The map's layout at `zoom` times the normal pixels per cell of `view`.
+fn zoomed_layout(view: &GridGeometry, zoom: usize) -> MapLayout {
+    let normal = MapLayout::new(view);
+    if zoom > 1 {
+        let px = normal.px_per_cell * zoom / normal.cells_per_px;
+        MapLayout::at_scale(view, px.max(1))
+    } else {
+        normal
+    }
 }
 
 /// A drawn episode picture with what the tests look at.
@@ -93,7 +142,6 @@ pub(super) struct EpisodeFigure {
     /// The picture.
     pub frame: Frame,
     /// The cells shown.
-    #[cfg_attr(not(test), allow(dead_code))]
     pub window: Window,
     /// The legend's entries, in order.
     #[cfg_attr(not(test), allow(dead_code))]
@@ -139,12 +187,7 @@ pub(super) fn draw_episode_figure(
     let shown = window.crop(&classes, g.width);
 
     let normal = MapLayout::new(&view);
-    let layout = if zoom > 1 {
-        let px = normal.px_per_cell * zoom / normal.cells_per_px;
-        MapLayout::at_scale(&view, px.max(1))
-    } else {
-        normal
-    };
+    let layout = zoomed_layout(&view, zoom);
     let style = Style::for_map(normal.width_px.max(normal.height_px));
     let (ex, ey) = view.extent();
     let magnification = ellipse_magnification(episode, ex.max(ey));

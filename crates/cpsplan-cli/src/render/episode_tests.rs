@@ -195,6 +195,16 @@ fn the_large_picture_numbers_more_and_is_only_made_when_needed() {
         .expect("a larger picture");
     let pic = Pixmap::decode_png(&large).unwrap();
     assert!(pic.width() > normal.frame.canvas.pixmap.width());
+    // The memory estimate before the run holds the larger canvas and its PNG;
+    // without the larger picture, the normal one.
+    let canvas = |p: &Pixmap| u64::from(p.width()) * u64::from(p.height()) * 4;
+    let g = truth.geometry();
+    assert!(pictures_peak_bytes(g, true) >= canvas(&pic) + large.len() as u64);
+    let (png, again) = render_episode_pictures(&truth, &ep, "t").unwrap();
+    assert_eq!(again.as_deref(), Some(&large[..]));
+    let small = Pixmap::decode_png(&png).unwrap();
+    assert!(pictures_peak_bytes(g, false) >= canvas(&small) + png.len() as u64);
+    assert!(pictures_peak_bytes(g, false) < pictures_peak_bytes(g, true));
     let zoomed = draw_episode_figure(&truth, &ep, "t", 2).unwrap();
     assert!(zoomed.labels.omitted < normal.labels.omitted);
     assert_labels_disjoint(&zoomed, &ep);

@@ -41,7 +41,9 @@ mod team;
 
 pub use self::bound::render_bound;
 pub use self::chart::{error_chart, Chart, Series};
-pub use self::episode::{render_episode, render_episode_large};
+pub use self::episode::{
+    pictures_peak_bytes, render_episode, render_episode_large, render_episode_pictures,
+};
 pub use self::map::render_map;
 pub use self::step::{render_step, StepView};
 

@@ -315,6 +315,7 @@ pub const BOUNDS: &[Bound] = &[
         "points",
         limits.max_cloud_points
     ),
+    real!("limits.max_memory_mb", 0.0, 1e9, "MB", limits.max_memory_mb),
 ];
 
 /// Why a configuration (or a grid under it) is not valid. Every variant names
@@ -354,7 +355,8 @@ pub enum ConfigError {
     /// A grid larger than the limits, or placed too far from the world origin.
     #[error("{what}")]
     Grid {
-        /// The parameter that sets the limit (`limits.max_grid_cells`, `resolution`).
+        /// The parameter that sets the limit (`limits.max_grid_cells`,
+        /// `limits.max_memory_mb`, `resolution`).
         key: &'static str,
         /// The problem, with the figures.
         what: String,
@@ -578,6 +580,37 @@ impl Config {
         }
         Ok(())
     }
+
+    /// Checks a run estimated to need `needed_mb` MB against `limits.max_memory_mb`,
+    /// or, when that is 0, against `available_mb` (what the machine has, where
+    /// known). Call it before the run allocates its planning structures.
+    pub fn check_memory(
+        &self,
+        needed_mb: f64,
+        available_mb: Option<f64>,
+    ) -> Result<(), ConfigError> {
+        let (limit, what) = if self.limits.max_memory_mb > 0.0 {
+            (self.limits.max_memory_mb, "`limits.max_memory_mb`")
+        } else {
+            match available_mb {
+                Some(a) => (a, "the memory this machine has available"),
+                None => return Ok(()),
+            }
+        };
+        if needed_mb > limit {
+            return Err(ConfigError::Grid {
+                key: "limits.max_memory_mb",
+                what: format!(
+                    "the run is estimated to need {} MB, more than {what} ({} MB); \
+                     choose a coarser resolution or a smaller map, or set \
+                     `limits.max_memory_mb`",
+                    approx(needed_mb.ceil()),
+                    approx(limit.floor())
+                ),
+            });
+        }
+        Ok(())
+    }
 }
 
 #[cfg(test)]
@@ -668,6 +701,25 @@ mod tests {
         assert!(c.validate().is_err());
         c.resolution = 10.0;
         assert_eq!(c.validate().unwrap_err().key(), "scanner.range");
+    }
+
+    #[test]
+    fn runs_beyond_the_memory_limit_are_refused() {
+        let mut c = Config::default();
+        c.check_memory(5_000.0, Some(8_000.0)).unwrap();
+        let e = c.check_memory(5_000.0, Some(4_000.0)).unwrap_err();
+        assert_eq!(e.key(), "limits.max_memory_mb");
+        assert!(e.to_string().contains("available"), "{e}");
+        // Without a limit or a known amount, nothing is refused.
+        c.check_memory(1e9, None).unwrap();
+        // A set limit takes the place of the machine's memory.
+        c.limits.max_memory_mb = 100.0;
+        let e = c.check_memory(150.0, Some(1e6)).unwrap_err();
+        assert!(
+            e.to_string().contains("`limits.max_memory_mb` (100 MB)"),
+            "{e}"
+        );
+        c.check_memory(90.0, None).unwrap();
     }
 
     #[test]

@@ -478,6 +478,10 @@ pub struct LimitsConfig {
     /// Most points of a point cloud read or written. The default, 200 million,
     /// takes about 5 GB as coordinates.
     pub max_cloud_points: usize,
+    /// Most memory, MB, a simulated episode may be estimated to need before it
+    /// starts ([`crate::mission::MemoryEstimate`]); 0 (the default) means the
+    /// memory the machine has available when the run starts, where known.
+    pub max_memory_mb: f64,
 }
 
 impl Default for LimitsConfig {
@@ -485,6 +489,7 @@ impl Default for LimitsConfig {
         Self {
             max_grid_cells: 150_000_000,
             max_cloud_points: 200_000_000,
+            max_memory_mb: 0.0,
         }
     }
 }

@@ -19,11 +19,14 @@
 //! - `record`: [`MoveRecord`] and the cycle records.
 //! - `calibration`: the gain estimate's online calibration ([`GainCalibration`]).
 //! - `clock`: the campaign's time ([`Clock`], [`CampaignTime`]).
+//! - `memory`: the memory an episode needs, estimated before it runs
+//!   ([`MemoryEstimate`]).
 
 mod accuracy;
 mod calibration;
 mod clock;
 mod episode;
+mod memory;
 mod record;
 mod step;
 mod team;
@@ -35,6 +38,7 @@ pub use episode::{
     parent_path, run_episode, run_episode_with, start_cell, Episode, MissionError, Step,
     StopReason, Summary, START_REGION_SHARE, START_REGION_SHARE_OF_MAP,
 };
+pub use memory::MemoryEstimate;
 pub use record::{cycle_and_regions, ChildMove, CycleRecord, MoveRecord, RejectedTarget};
 pub use step::{plan_step, PlanError, StepPlan};
 pub use team::{execute_move, initial_children, plan_round, Groundwork, Moved, Team};
