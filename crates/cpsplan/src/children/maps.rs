@@ -155,16 +155,15 @@ impl<'k> StepMaps<'k> {
         // drivability does not depend on where the child stands).
         let drivable = &self.children.trav.traversable;
         let link = self.params.link;
-        let field = self
-            .sight
-            .get_or_init(|| Rc::new(SightField::of_known(self.knowledge, link)));
-        let v = Rc::new(View::of(
-            self.knowledge,
-            from,
-            link,
-            Rc::clone(field),
-            |i| drivable[i],
-        ));
+        let field = View::needs_field(self.knowledge, link).then(|| {
+            Rc::clone(
+                self.sight
+                    .get_or_init(|| Rc::new(SightField::of_known(self.knowledge, link))),
+            )
+        });
+        let v = Rc::new(View::of(self.knowledge, from, link, field, |i| {
+            drivable[i]
+        }));
         let mut views = self.views.borrow_mut();
         if views.len() >= MAX_VIEWS {
             views.clear();

@@ -10,26 +10,32 @@
 //! known-Free, cells taken as full closed squares ([`super::sight_clear`]): a line
 //! that touches a wall cell's corner is blocked. The rule is symmetric.
 //!
-//! The scanner's shadowcasting sweep ([`super::visible_cells`], with every
-//! non-Free cell opaque) sees a superset of these cells (it lets lines graze
-//! corners), so it selects the candidates and each is then tested exactly.
+//! Without a sight clearance (the default) one sweep finds exactly these cells
+//! ([`super::certain_cells`]). With a clearance, the scanner's shadowcasting
+//! sweep ([`super::visible_cells`], with every non-Free cell opaque) sees a
+//! superset of them (it lets lines graze corners), so it selects the candidates
+//! and each is then tested exactly ([`SightField`]).
 
 use std::cell::Cell as StdCell;
 use std::rc::Rc;
 
 use super::sight::{LinkRule, SightField};
+use super::sight_sweep::certain_cells;
 use crate::geom::Cell;
 use crate::grid::{CellState, GridGeometry, OccupancyGrid};
 use crate::sensing::visible_cells;
 
 /// The cells in certain line of sight from one position within range, over the
 /// rows and columns of the range disc's bounding box (clipped to the grid): only
-/// known-Free cells, by the rule of [`LinkRule`]. The exact sight test of a cell
-/// runs the first time the cell is asked about, and its answer is kept.
+/// known-Free cells, by the rule of [`LinkRule`]. Without a sight clearance the
+/// view is complete when made; with one, the exact sight test of a cell runs the
+/// first time the cell is asked about, and its answer is kept.
 #[derive(Debug, Clone)]
 pub struct View<'k> {
     knowledge: &'k OccupancyGrid,
-    field: Rc<SightField>,
+    /// The sight tests of a rule with a clearance (`None` without one: every
+    /// cell's answer is known when the view is made).
+    field: Option<Rc<SightField>>,
     from: Cell,
     x0: usize,
     y0: usize,
@@ -54,19 +60,27 @@ const BLOCKED: u8 = 3;
 impl<'k> View<'k> {
     /// The view from `from` by `rule`, of every known-Free cell.
     pub fn new(knowledge: &'k OccupancyGrid, from: Cell, rule: LinkRule) -> Self {
-        let field = Rc::new(SightField::around(knowledge, from, rule));
+        let field = Self::needs_field(knowledge, rule)
+            .then(|| Rc::new(SightField::around(knowledge, from, rule)));
         Self::of(knowledge, from, rule, field, |_| true)
     }
 
+    /// Whether views by `rule` on `knowledge` test their cells with a
+    /// [`SightField`]: only when the rule keeps a clearance.
+    pub fn needs_field(knowledge: &OccupancyGrid, rule: LinkRule) -> bool {
+        rule.clearance / knowledge.resolution() > 0.0
+    }
+
     /// The view from `from` by `rule`, of the cells with `wanted(index)` only
-    /// (others are reported unseen), with the sight tests of `field` (whose
-    /// window must hold the range disc, and whose clearance must be the rule's):
-    /// the AND region needs only the cells a child can stand on.
+    /// (others are reported unseen), with the sight tests of `field` where the
+    /// rule keeps a clearance ([`Self::needs_field`]; its window must hold the
+    /// range disc, and its clearance must be the rule's): the AND region needs
+    /// only the cells a child can stand on.
     pub fn of(
         knowledge: &'k OccupancyGrid,
         from: Cell,
         rule: LinkRule,
-        field: Rc<SightField>,
+        field: Option<Rc<SightField>>,
         wanted: impl Fn(usize) -> bool,
     ) -> Self {
         let g = knowledge.geometry();
@@ -82,18 +96,33 @@ impl<'k> View<'k> {
         let row0 = y0 * stride;
         let mut state = vec![UNSEEN; (y1 + 1 - y0) * stride];
         // Every visited cell lies in the disc, so in the box.
-        visible_cells(
-            g,
-            from,
-            rule.max / res,
-            |i| k[i] != CellState::Free,
-            |i| {
-                if k[i] == CellState::Free && wanted(i) {
-                    state[i - row0] = UNTESTED;
-                }
-                false
-            },
-        );
+        let field = field.filter(|_| Self::needs_field(knowledge, rule));
+        if field.is_none() {
+            certain_cells(
+                g,
+                from,
+                rule.max / res,
+                |i| k[i] != CellState::Free,
+                |i| {
+                    if wanted(i) {
+                        state[i - row0] = SEEN;
+                    }
+                },
+            );
+        } else {
+            visible_cells(
+                g,
+                from,
+                rule.max / res,
+                |i| k[i] != CellState::Free,
+                |i| {
+                    if k[i] == CellState::Free && wanted(i) {
+                        state[i - row0] = UNTESTED;
+                    }
+                    false
+                },
+            );
+        }
         // Closer than the minimum range: not measurable.
         let min = rule.min / res;
         let near = min.ceil() as usize;
@@ -125,7 +154,11 @@ impl<'k> View<'k> {
             UNTESTED => {
                 let i = self.y0 * self.stride + j;
                 let cell = Cell::new(i % self.stride, i / self.stride);
-                let clear = self.field.clear(self.knowledge, self.from, cell);
+                // Untested cells exist only with a field.
+                let clear = self
+                    .field
+                    .as_ref()
+                    .is_some_and(|f| f.clear(self.knowledge, self.from, cell));
                 self.state[j].set(if clear { SEEN } else { BLOCKED });
                 clear
             }
@@ -210,18 +243,20 @@ pub fn mutual_view(
     rule: LinkRule,
     wanted: impl Fn(usize) -> bool + Copy,
 ) -> Vec<u32> {
-    let field = Rc::new(SightField::new(
-        knowledge,
-        (
-            parent_from.x.min(parent_to.x),
-            parent_from.y.min(parent_to.y),
-            parent_from.x.max(parent_to.x),
-            parent_from.y.max(parent_to.y),
-        ),
-        rule.max / knowledge.resolution(),
-        rule.clearance / knowledge.resolution(),
-    ));
-    let a = View::of(knowledge, parent_from, rule, Rc::clone(&field), wanted);
+    let field = View::needs_field(knowledge, rule).then(|| {
+        Rc::new(SightField::new(
+            knowledge,
+            (
+                parent_from.x.min(parent_to.x),
+                parent_from.y.min(parent_to.y),
+                parent_from.x.max(parent_to.x),
+                parent_from.y.max(parent_to.y),
+            ),
+            rule.max / knowledge.resolution(),
+            rule.clearance / knowledge.resolution(),
+        ))
+    });
+    let a = View::of(knowledge, parent_from, rule, field.clone(), wanted);
     let b = View::of(knowledge, parent_to, rule, field, wanted);
     seen_by_both(knowledge.geometry(), &a, &b)
 }
