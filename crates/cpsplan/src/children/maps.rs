@@ -161,9 +161,7 @@ impl<'k> StepMaps<'k> {
                     .get_or_init(|| Rc::new(SightField::of_known(self.knowledge, link))),
             )
         });
-        let v = Rc::new(View::of(self.knowledge, from, link, field, |i| {
-            drivable[i]
-        }));
+        let v = Rc::new(View::of(self.knowledge, from, link, field, |i| drivable[i]));
         let mut views = self.views.borrow_mut();
         if views.len() >= MAX_VIEWS {
             views.clear();

@@ -174,14 +174,50 @@ fn lower_envelope(
 /// Exact Euclidean feature transform of a `width × height` window in which every
 /// column holds an obstacle cell (`obstacle`, row-major): per cell the column and
 /// row of a nearest obstacle cell, and the squared distance to it.
+#[cfg(test)]
 pub(crate) fn feature_transform(
     width: usize,
     height: usize,
     obstacle: &[bool],
 ) -> (Vec<(u32, u32)>, Vec<u32>) {
+    let mut buffers = FeatureBuffers::default();
+    feature_transform_into(width, height, obstacle, &mut buffers);
+    (buffers.feature, buffers.d2)
+}
+
+/// The buffers of a feature transform, kept between calls so that a repeated
+/// transform reuses their memory.
+#[derive(Debug, Default)]
+pub(crate) struct FeatureBuffers {
+    /// Per cell: the row of the nearest obstacle cell in its column.
+    near: Vec<u32>,
+    /// Per cell: column and row of a nearest obstacle cell.
+    pub feature: Vec<(u32, u32)>,
+    /// Per cell: the squared distance to it.
+    pub d2: Vec<u32>,
+}
+
+impl FeatureBuffers {
+    /// Cells the buffers have room for.
+    pub fn capacity(&self) -> usize {
+        self.feature.capacity()
+    }
+}
+
+/// [`feature_transform`] into `out` (its `feature` and `d2`, resized to the
+/// window).
+pub(crate) fn feature_transform_into(
+    width: usize,
+    height: usize,
+    obstacle: &[bool],
+    out: &mut FeatureBuffers,
+) {
     let (w, h) = (width, height);
+    let n = w * h;
     // Column pass: the row of the nearest obstacle in the same column.
-    let mut near = vec![NONE; w * h];
+    let near = &mut out.near;
+    near.clear();
+    near.resize(n, NONE);
     for y in 0..h {
         for x in 0..w {
             let i = y * w + x;
@@ -204,8 +240,12 @@ pub(crate) fn feature_transform(
         }
     }
     // Row pass.
-    let mut feature = vec![(0u32, 0u32); w * h];
-    let mut d2 = vec![0u32; w * h];
+    let near = &out.near;
+    let (feature, d2) = (&mut out.feature, &mut out.d2);
+    feature.clear();
+    feature.resize(n, (0, 0));
+    d2.clear();
+    d2.resize(n, 0);
     feature
         .par_chunks_mut(w)
         .zip(d2.par_chunks_mut(w))
@@ -228,7 +268,6 @@ pub(crate) fn feature_transform(
                 });
             },
         );
-    (feature, d2)
 }
 
 #[cfg(test)]

@@ -319,6 +319,15 @@ pub fn run_episode(
     run_episode_with(truth, start, config, |step, _| on_step(step))
 }
 
+/// Frees the buffers the planning keeps between steps when dropped.
+struct ReleaseBuffers;
+
+impl Drop for ReleaseBuffers {
+    fn drop(&mut self) {
+        crate::motion::release_buffers();
+    }
+}
+
 /// [`run_episode`], with `on_step` also seeing the knowledge map the step planned
 /// on (after its scan), e.g. to draw that step.
 pub fn run_episode_with(
@@ -328,6 +337,9 @@ pub fn run_episode_with(
     mut on_step: impl FnMut(&Step, &OccupancyGrid),
 ) -> Result<Episode, MissionError> {
     config.validate()?;
+    // The GVD's working buffers are kept from step to step, and freed when the
+    // episode ends, however it ends.
+    let _buffers = ReleaseBuffers;
     let g = *truth.geometry();
     g.check_limits(config)?;
     let truth = truth.solidified();

@@ -41,7 +41,9 @@
 
 use rayon::prelude::*;
 
-use crate::grid::distance::feature_transform;
+use std::sync::Mutex;
+
+use crate::grid::distance::{feature_transform_into, FeatureBuffers};
 use crate::grid::{CellState, GridGeometry, OccupancyGrid, Traversability};
 
 /// Smallest angle, degrees, between the directions to the nearest obstacle cells of
@@ -75,9 +77,49 @@ impl Gvd {
     }
 }
 
+/// Working buffers of [`gvd`], kept between diagrams so that the next one reuses
+/// their memory instead of faulting in fresh pages.
+#[derive(Default)]
+struct Scratch {
+    obstacle: Vec<bool>,
+    features: FeatureBuffers,
+    components: Components,
+    right: Vec<u8>,
+    up: Vec<u8>,
+}
+
+/// The buffers kept for the next diagram: one set for the whole process (a
+/// diagram computed while another runs gets fresh buffers), until
+/// [`release_buffers`].
+static SCRATCH: Mutex<Option<Scratch>> = Mutex::new(None);
+
+/// Frees the buffers [`gvd`] keeps between diagrams (an episode calls it when it
+/// ends, so that they do not add to what comes after).
+pub(crate) fn release_buffers() {
+    if let Ok(mut kept) = SCRATCH.lock() {
+        *kept = None;
+    }
+}
+
 /// The GVD of the non-Free cells of `knowledge` (and the grid's edge), restricted
 /// to the cells with `trav.passable`. See the module documentation for the method.
 pub fn gvd(knowledge: &OccupancyGrid, trav: &Traversability) -> Gvd {
+    let kept = SCRATCH.lock().ok().and_then(|mut k| k.take());
+    let mut scratch = kept.unwrap_or_default();
+    let out = gvd_with(knowledge, trav, &mut scratch);
+    if let Ok(mut kept) = SCRATCH.lock() {
+        let larger = kept
+            .as_ref()
+            .is_none_or(|k| k.features.capacity() < scratch.features.capacity());
+        if larger {
+            *kept = Some(scratch);
+        }
+    }
+    out
+}
+
+/// [`gvd`] with the working buffers of `scratch`.
+fn gvd_with(knowledge: &OccupancyGrid, trav: &Traversability, scratch: &mut Scratch) -> Gvd {
     let g = knowledge.geometry();
     let (w, n) = (g.width, g.len());
     let mut skeleton = vec![false; n];
@@ -95,7 +137,9 @@ pub fn gvd(knowledge: &OccupancyGrid, trav: &Traversability) -> Gvd {
     let (pw, ph) = (bw + 2, bh + 2);
     let k = knowledge.cells();
     // Obstacles of the window: the ring and every non-Free cell.
-    let mut obstacle = vec![true; pw * ph];
+    let obstacle = &mut scratch.obstacle;
+    obstacle.clear();
+    obstacle.resize(pw * ph, true);
     for y in 0..bh {
         let row = &k[(y0 + y) * w + x0..][..bw];
         let out = &mut obstacle[(y + 1) * pw + 1..][..bw];
@@ -103,16 +147,21 @@ pub fn gvd(knowledge: &OccupancyGrid, trav: &Traversability) -> Gvd {
             *o = s != CellState::Free;
         }
     }
-    let (feature, d2) = feature_transform(pw, ph, &obstacle);
-    let component = components(pw, ph, &obstacle);
+    let obstacle = &scratch.obstacle;
+    feature_transform_into(pw, ph, obstacle, &mut scratch.features);
+    let (feature, d2) = (&scratch.features.feature, &scratch.features.d2);
+    let component = scratch.components.label(pw, ph, obstacle);
     let cos_min = MIN_EDGE_ANGLE_DEG.to_radians().cos();
     let cos2_min = cos_min * cos_min;
     let passable = &trav.passable;
 
     // Each straddling pair of 4-neighbours once: the pair of a window cell with
     // its right neighbour and with its upper neighbour, and which of the two wins.
-    let mut right = vec![PAIR_NONE; pw * ph];
-    let mut up = vec![PAIR_NONE; pw * ph];
+    let (right, up) = (&mut scratch.right, &mut scratch.up);
+    for pairs in [&mut *right, &mut *up] {
+        pairs.clear();
+        pairs.resize(pw * ph, PAIR_NONE);
+    }
     right
         .par_chunks_mut(pw)
         .zip(up.par_chunks_mut(pw))
@@ -129,8 +178,8 @@ pub fn gvd(knowledge: &OccupancyGrid, trav: &Traversability) -> Gvd {
                     (Site::new(pw, px + 1, py), &mut right_row[px]),
                     (Site::new(pw, px, py + 1), &mut up_row[px]),
                 ] {
-                    if !obstacle[q.i] && straddles(pw, p, q, &feature, &d2, &component, cos2_min) {
-                        *out = if wins(p, q, &feature, &d2) {
+                    if !obstacle[q.i] && straddles(pw, p, q, feature, d2, component, cos2_min) {
+                        *out = if wins(p, q, feature, d2) {
                             PAIR_FIRST
                         } else {
                             PAIR_SECOND
@@ -239,68 +288,95 @@ fn wins(p: Site, q: Site, feature: &[(u32, u32)], d2: &[u32]) -> bool {
     ep < eq || (ep == eq && p.i < q.i)
 }
 
-/// Labels of the 8-connected components of the obstacle cells ([`NONE`] elsewhere;
-/// a component's label is some number shared by its cells and no other's).
-///
-/// Union-find over the row runs of obstacle cells: a run joins every run of the row
-/// below that overlaps it or touches it diagonally. Linear in the cells, and fast
-/// where obstacles are large solid areas.
-fn components(pw: usize, ph: usize, obstacle: &[bool]) -> Vec<u32> {
-    // Runs: (row, first column, last column), row by row.
-    let mut runs: Vec<(usize, usize, usize)> = Vec::new();
-    let mut row_start = Vec::with_capacity(ph + 1);
-    for y in 0..ph {
-        row_start.push(runs.len());
-        let row = &obstacle[y * pw..][..pw];
-        let mut x = 0;
-        while x < pw {
-            if row[x] {
-                let first = x;
-                while x < pw && row[x] {
+/// Labels of the 8-connected components of the obstacle cells, with the buffers
+/// kept between calls.
+#[derive(Default)]
+struct Components {
+    /// Runs of obstacle cells: (row, first column, last column), row by row.
+    runs: Vec<(usize, usize, usize)>,
+    row_start: Vec<usize>,
+    parent: Vec<u32>,
+    label: Vec<u32>,
+}
+
+impl Components {
+    /// Labels of the 8-connected components of the obstacle cells ([`NONE`]
+    /// elsewhere; a component's label is some number shared by its cells and no
+    /// other's).
+    ///
+    /// Union-find over the row runs of obstacle cells: a run joins every run of
+    /// the row below that overlaps it or touches it diagonally. Linear in the
+    /// cells, and fast where obstacles are large solid areas.
+    fn label(&mut self, pw: usize, ph: usize, obstacle: &[bool]) -> &[u32] {
+        let Self {
+            runs,
+            row_start,
+            parent,
+            label,
+        } = self;
+        runs.clear();
+        row_start.clear();
+        for y in 0..ph {
+            row_start.push(runs.len());
+            let row = &obstacle[y * pw..][..pw];
+            let mut x = 0;
+            while x < pw {
+                if row[x] {
+                    let first = x;
+                    while x < pw && row[x] {
+                        x += 1;
+                    }
+                    runs.push((y, first, x - 1));
+                } else {
                     x += 1;
                 }
-                runs.push((y, first, x - 1));
-            } else {
-                x += 1;
             }
         }
-    }
-    row_start.push(runs.len());
-    let mut parent: Vec<u32> = (0..runs.len() as u32).collect();
-    fn root(parent: &mut [u32], mut i: u32) -> u32 {
-        while parent[i as usize] != i {
-            let up = parent[parent[i as usize] as usize];
-            parent[i as usize] = up;
-            i = up;
-        }
-        i
-    }
-    for y in 1..ph {
-        let below = row_start[y - 1]..row_start[y];
-        let mut j = below.start;
-        for i in row_start[y]..row_start[y + 1] {
-            let (_, a0, a1) = runs[i];
-            // Runs of the row below that end before this run starts (diagonal
-            // contact allowed) cannot touch later runs either.
-            while j < below.end && runs[j].2 + 1 < a0 {
-                j += 1;
+        row_start.push(runs.len());
+        parent.clear();
+        parent.extend(0..runs.len() as u32);
+        fn root(parent: &mut [u32], mut i: u32) -> u32 {
+            while parent[i as usize] != i {
+                let up = parent[parent[i as usize] as usize];
+                parent[i as usize] = up;
+                i = up;
             }
-            let mut k = j;
-            while k < below.end && runs[k].1 <= a1 + 1 {
-                let (ra, rb) = (root(&mut parent, i as u32), root(&mut parent, k as u32));
-                if ra != rb {
-                    parent[ra.max(rb) as usize] = ra.min(rb);
+            i
+        }
+        for y in 1..ph {
+            let below = row_start[y - 1]..row_start[y];
+            let mut j = below.start;
+            for i in row_start[y]..row_start[y + 1] {
+                let (_, a0, a1) = runs[i];
+                // Runs of the row below that end before this run starts (diagonal
+                // contact allowed) cannot touch later runs either.
+                while j < below.end && runs[j].2 + 1 < a0 {
+                    j += 1;
                 }
-                k += 1;
+                let mut k = j;
+                while k < below.end && runs[k].1 <= a1 + 1 {
+                    let (ra, rb) = (root(parent, i as u32), root(parent, k as u32));
+                    if ra != rb {
+                        parent[ra.max(rb) as usize] = ra.min(rb);
+                    }
+                    k += 1;
+                }
             }
         }
+        label.clear();
+        label.resize(pw * ph, NONE);
+        for (i, &(y, a, b)) in runs.iter().enumerate() {
+            let r = root(parent, i as u32);
+            label[y * pw + a..=y * pw + b].fill(r);
+        }
+        label
     }
-    let mut label = vec![NONE; pw * ph];
-    for (i, &(y, a, b)) in runs.iter().enumerate() {
-        let r = root(&mut parent, i as u32);
-        label[y * pw + a..=y * pw + b].fill(r);
-    }
-    label
+}
+
+/// [`Components::label`] with fresh buffers.
+#[cfg(test)]
+fn components(pw: usize, ph: usize, obstacle: &[bool]) -> Vec<u32> {
+    Components::default().label(pw, ph, obstacle).to_vec()
 }
 
 /// Labels of the connected parts of the skeleton: 8-neighbouring skeleton cells

@@ -13,6 +13,7 @@ mod gvd;
 mod roads;
 mod voronoi_path;
 
+pub(crate) use gvd::release_buffers;
 pub use gvd::{gvd, Gvd, MIN_EDGE_ANGLE_DEG};
 pub use roads::{NoDrivablePath, Roads};
 pub use voronoi_path::voronoi_path;
