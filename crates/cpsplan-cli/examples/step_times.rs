@@ -92,16 +92,18 @@ fn plot(out: &Path, title: &str, specs: &[String]) -> Result<(), Box<dyn Error>>
         }
         let steps = points.len().max(1);
         series.push(Series {
-            label: format!("{label}: {steps} steps, mean {:.0} ms", total / steps as f64),
-            points,
+            label: format!(
+                "{label}: {steps} steps, mean {:.0} ms",
+                total / steps as f64
+            ),
+            points: rolling_median(&points, 9),
             colour: COLOURS[(k / 2) % COLOURS.len()],
             dashed: k % 2 == 0,
         });
     }
     let chart = Chart {
         title: title.to_string(),
-        subtitle: "time of each step (scan, planning round, move) against the cells known after it"
-            .into(),
+        subtitle: "a step: scan, planning round, move (median of 9 steps); dashed: before".into(),
         x_label: "known cells (millions)".into(),
         y_label: "step time (ms)".into(),
         series,
@@ -109,4 +111,19 @@ fn plot(out: &Path, title: &str, specs: &[String]) -> Result<(), Box<dyn Error>>
     std::fs::write(out, chart.svg())?;
     std::fs::write(out.with_extension("png"), chart.png()?)?;
     Ok(())
+}
+
+/// Each point's y replaced by the median of the `window` points around it (fewer
+/// at the ends), so that single slow steps do not hide the trend.
+fn rolling_median(points: &[(f64, f64)], window: usize) -> Vec<(f64, f64)> {
+    let half = window / 2;
+    (0..points.len())
+        .map(|i| {
+            let lo = i.saturating_sub(half);
+            let hi = (i + half + 1).min(points.len());
+            let mut ys: Vec<f64> = points[lo..hi].iter().map(|p| p.1).collect();
+            ys.sort_by(f64::total_cmp);
+            (points[i].0, ys[ys.len() / 2])
+        })
+        .collect()
 }

@@ -119,7 +119,7 @@ fn stages(c: &mut Criterion) {
         b.iter(|| expected_gain(black_box(k), m.target, config.range_cells(), usize::MAX))
     });
     let border = border_cells(k);
-    let (band_cells, _) = band(k, &border, config.parent.band_width);
+    let band_cells = band(k, &border, config.parent.band_width);
     let band_area = band_cells.len() as f64 * g.resolution * g.resolution;
     let clusters = ((band_area / config.parent.cluster_area).ceil() as usize)
         .clamp(1, config.parent.max_clusters);

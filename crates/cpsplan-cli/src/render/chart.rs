@@ -50,6 +50,8 @@ const WIDTH: f64 = 1200.0;
 const HEIGHT: f64 = 720.0;
 /// Glyph scale of body text (8-pixel glyphs).
 const TEXT: u32 = 2;
+/// Height of a row of the legend.
+const LEGEND_ROW: f64 = 28.0;
 
 /// "Nice" tick values covering `lo..hi`: about `n` steps of 1, 2 or 5 × 10^k.
 fn ticks(lo: f64, hi: f64, n: usize) -> Vec<f64> {
@@ -87,7 +89,18 @@ impl Chart {
         s.rect(0.0, 0.0, WIDTH, HEIGHT, white);
         s.text(40.0, 20.0, &self.title, 3, palette::TEXT, 0);
         s.text(40.0, 56.0, &self.subtitle, TEXT, palette::MUTED_TEXT, 0);
-        let (x0, y0, x1, y1) = (110.0, 150.0, WIDTH - 40.0, HEIGHT - 90.0);
+        // Legend entries in rows under the subtitle, as many to a row as fit.
+        let mut legend = Vec::with_capacity(self.series.len());
+        let (mut lx, mut ly) = (40.0, 96.0);
+        for series in &self.series {
+            let w = 80.0 + text_width(&series.label, TEXT) as f64;
+            if lx > 40.0 && lx + w - 36.0 > WIDTH - 40.0 {
+                (lx, ly) = (40.0, ly + LEGEND_ROW);
+            }
+            legend.push((lx, ly));
+            lx += w;
+        }
+        let (x0, y0, x1, y1) = (110.0, ly + 54.0, WIDTH - 40.0, HEIGHT - 90.0);
         let all: Vec<(f64, f64)> = self
             .series
             .iter()
@@ -141,8 +154,7 @@ impl Chart {
             1,
         );
         s.text(x0 - 70.0, y0 - 34.0, &self.y_label, TEXT, palette::TEXT, 0);
-        let mut lx = 40.0;
-        for series in &self.series {
+        for (series, &(lx, ly)) in self.series.iter().zip(&legend) {
             let c = Rgb(series.colour.0, series.colour.1, series.colour.2);
             let pts: Vec<(f64, f64)> = series
                 .points
@@ -151,11 +163,8 @@ impl Chart {
                 .map(|&(x, y)| (px(x), py(y)))
                 .collect();
             s.polyline(&pts, c, 3.0, series.dashed);
-            // Legend entry in a row under the subtitle.
-            let ly = 96.0;
             s.polyline(&[(lx, ly), (lx + 36.0, ly)], c, 3.0, series.dashed);
             s.text(lx + 44.0, ly - 8.0, &series.label, TEXT, palette::TEXT, 0);
-            lx += 80.0 + text_width(&series.label, TEXT) as f64;
         }
     }
 
@@ -351,6 +360,51 @@ mod tests {
         assert!(svg.starts_with("<svg") && svg.trim_end().ends_with("</svg>"));
         assert!(svg.contains("&lt;test&gt; &amp; more"));
         assert!(svg.contains("<polyline"));
+    }
+
+    /// Where a drawing put its texts.
+    #[derive(Default)]
+    struct Texts(Vec<(f64, f64, String, u32, u8)>);
+
+    impl Surface for Texts {
+        fn rect(&mut self, _: f64, _: f64, _: f64, _: f64, _: Rgb) {}
+        fn polyline(&mut self, _: &[(f64, f64)], _: Rgb, _: f64, _: bool) {}
+        fn text(&mut self, x: f64, y: f64, text: &str, size: u32, _: Rgb, anchor: u8) {
+            self.0.push((x, y, text.to_string(), size, anchor));
+        }
+    }
+
+    #[test]
+    fn a_long_legend_wraps_into_rows_above_the_plot() {
+        let mut c = chart();
+        c.series = (0..8)
+            .map(|k| Series {
+                label: format!("series number {k} with a long label"),
+                points: vec![(0.0, k as f64), (1.0, 1.0)],
+                colour: (0, 0, 0),
+                dashed: k % 2 == 0,
+            })
+            .collect();
+        let mut texts = Texts::default();
+        c.draw(&mut texts);
+        let legend: Vec<_> = texts
+            .0
+            .iter()
+            .filter(|t| t.2.starts_with("series"))
+            .collect();
+        assert_eq!(legend.len(), 8);
+        for (x, _, text, size, _) in &legend {
+            assert!(
+                x + text_width(text, *size) as f64 <= WIDTH - 40.0,
+                "{text} at {x}"
+            );
+        }
+        let rows: std::collections::BTreeSet<i64> = legend.iter().map(|t| t.1 as i64).collect();
+        assert!(rows.len() >= 3, "{rows:?}");
+        // The y axis label sits below the last legend row.
+        let last_row = legend.iter().map(|t| t.1).fold(0.0, f64::max);
+        let axis = texts.0.iter().find(|t| t.2 == "mm").unwrap();
+        assert!(axis.1 > last_row + 10.0);
     }
 
     #[test]

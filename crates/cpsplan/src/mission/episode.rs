@@ -325,6 +325,7 @@ struct ReleaseBuffers;
 impl Drop for ReleaseBuffers {
     fn drop(&mut self) {
         crate::motion::release_buffers();
+        crate::grid::travel::release_buffers();
     }
 }
 
@@ -337,8 +338,8 @@ pub fn run_episode_with(
     mut on_step: impl FnMut(&Step, &OccupancyGrid),
 ) -> Result<Episode, MissionError> {
     config.validate()?;
-    // The GVD's working buffers are kept from step to step, and freed when the
-    // episode ends, however it ends.
+    // The working buffers of the GVD and of the band's search are kept from step
+    // to step, and freed when the episode ends, however it ends.
     let _buffers = ReleaseBuffers;
     let g = *truth.geometry();
     g.check_limits(config)?;

@@ -2,35 +2,23 @@
 //! the border, where the candidate samples are scattered.
 //!
 //! In: the knowledge map and its border cells ([`super::border`]). Out: the band's
-//! cells and their travel distances from the border.
+//! cells.
 
-use crate::grid::travel::sweep_cells;
-use crate::grid::{CellState, DistanceField, OccupancyGrid, UNREACHED};
+use crate::grid::travel::reached_within;
+use crate::grid::{CellState, DistanceField, OccupancyGrid};
 
 /// The band: known-Free cells whose travel distance through known-Free space to the
-/// nearest border cell is at most `width` metres. Returns the band's cells in
-/// index order and the distance field from the border.
-pub fn band(
-    knowledge: &OccupancyGrid,
-    border: &[usize],
-    width: f64,
-) -> (Vec<usize>, DistanceField) {
+/// nearest border cell is at most `width` metres, in index order. The search
+/// touches only the band and the cells beside it, not the whole map.
+pub fn band(knowledge: &OccupancyGrid, border: &[usize], width: f64) -> Vec<usize> {
     let g = knowledge.geometry();
-    let field = sweep_cells(
+    reached_within(
         g,
         knowledge.cells(),
         |c| c == CellState::Free,
         border,
         DistanceField::cost_of(width, g.resolution),
-    );
-    let cells = field
-        .cost
-        .iter()
-        .enumerate()
-        .filter(|&(_, &c)| c != UNREACHED)
-        .map(|(i, _)| i)
-        .collect();
-    (cells, field)
+    )
 }
 
 #[cfg(test)]
@@ -46,7 +34,7 @@ mod tests {
         let mut k = OccupancyGrid::filled(g, CellState::Unknown);
         k.fill_rect(0, 0, 20, 5, CellState::Free);
         let b = border_cells(&k);
-        let (cells, _) = band(&k, &b, 0.5);
+        let cells = band(&k, &b, 0.5);
         // Columns 14..=19 are within 0.5 m of column 19.
         assert_eq!(cells.len(), 6 * 5);
         assert!(cells.iter().all(|&i| g.cell(i).x >= 14));

@@ -67,7 +67,7 @@ pub fn reachable_frontier(
     if border.is_empty() {
         return Vec::new();
     }
-    let (band_cells, _) = band(knowledge, &border, pc.band_width);
+    let band_cells = band(knowledge, &border, pc.band_width);
     frontier_cells(knowledge, &band_cells, trav, field, config, gain)
         .take(limit)
         .collect()

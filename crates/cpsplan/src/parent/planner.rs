@@ -152,7 +152,7 @@ pub fn plan_parent_with_field(
             if border.is_empty() {
                 return (border, Err(all.len()));
             }
-            let (band_cells, _) = band(knowledge, &border, pc.band_width);
+            let band_cells = band(knowledge, &border, pc.band_width);
 
             // Steps 2 and 3: samples scattered in the band, k adapted to its size.
             let samples = scatter(&g, &band_cells, pc, rng);
