@@ -45,44 +45,31 @@ fn round_ties_down(depth: i64, s: Slope) -> i64 {
 }
 
 /// One quadrant's mapping from (depth, col) to grid cells, plus its clip limits.
-struct Quadrant {
+pub(super) struct Quadrant {
     /// Index offset of one step in depth.
-    d_depth: isize,
+    pub d_depth: isize,
     /// Index offset of one step in column.
-    d_col: isize,
+    pub d_col: isize,
     /// Largest depth inside the grid.
-    max_depth: i64,
+    pub max_depth: i64,
     /// Smallest and largest column inside the grid.
-    col_lo: i64,
-    col_hi: i64,
+    pub col_lo: i64,
+    pub col_hi: i64,
     /// Whether cells on the diagonals (|col| == depth) are reported by this quadrant.
-    owns_diagonals: bool,
+    pub owns_diagonals: bool,
 }
 
-/// Calls `visit(index)` once for every cell visible from `origin` within
-/// `range_cells` (a radius in cells, centre to centre), where `blocks(index)` says
-/// which cells stop the light. The origin itself is always visited. Returns early,
-/// with `true`, as soon as `visit` returns `true` (a request to stop).
-pub fn visible_cells<B, V>(
+/// The disc of `range_cells` around `origin` (which must lie on the grid): its
+/// squared radius in whole cells, and the four quadrants swept from it (north,
+/// south, east, west; the diagonals belong to north and south), clipped to the
+/// grid and to the radius.
+pub(super) fn quadrants(
     geometry: &GridGeometry,
     origin: Cell,
     range_cells: f64,
-    blocks: B,
-    mut visit: V,
-) -> bool
-where
-    B: Fn(usize) -> bool,
-    V: FnMut(usize) -> bool,
-{
+) -> (i64, [Quadrant; 4]) {
     let (w, h) = (geometry.width as i64, geometry.height as i64);
     let (ox, oy) = (origin.x as i64, origin.y as i64);
-    if ox >= w || oy >= h {
-        return false;
-    }
-    let base = geometry.index(origin);
-    if visit(base) {
-        return true;
-    }
     // No cell is farther than w + h: a longer range sees no more, and the bound
     // keeps the squared radius far from overflow for any input.
     let r = range_cells.max(0.0).min((w + h) as f64);
@@ -128,6 +115,34 @@ where
             owns_diagonals: false,
         },
     ];
+    (r2, quadrants)
+}
+
+/// Calls `visit(index)` once for every cell visible from `origin` within
+/// `range_cells` (a radius in cells, centre to centre), where `blocks(index)` says
+/// which cells stop the light. The origin itself is always visited. Returns early,
+/// with `true`, as soon as `visit` returns `true` (a request to stop).
+pub fn visible_cells<B, V>(
+    geometry: &GridGeometry,
+    origin: Cell,
+    range_cells: f64,
+    blocks: B,
+    mut visit: V,
+) -> bool
+where
+    B: Fn(usize) -> bool,
+    V: FnMut(usize) -> bool,
+{
+    let (w, h) = (geometry.width as i64, geometry.height as i64);
+    let (ox, oy) = (origin.x as i64, origin.y as i64);
+    if ox >= w || oy >= h {
+        return false;
+    }
+    let base = geometry.index(origin);
+    if visit(base) {
+        return true;
+    }
+    let (r2, quadrants) = quadrants(geometry, origin, range_cells);
     let mut sweep = Sweep {
         base: base as isize,
         r2,

@@ -379,15 +379,8 @@ mod tests {
             from in (0usize..40, 0usize..40),
             clearance in proptest::sample::select(vec![0.0, 0.3, 1.0, 2.5]),
         ) {
-            let g = GridGeometry::new(w, h, 0.1, Point::default());
-            let mut k = OccupancyGrid::filled(g, CellState::Free);
-            for (i, &v) in cells.iter().enumerate().take(g.len()) {
-                match v {
-                    0 => k.cells_mut()[i] = CellState::Occupied,
-                    1 => k.cells_mut()[i] = CellState::Unknown,
-                    _ => {}
-                }
-            }
+            let k = crate::grid::fixtures::coded(w, h, &cells);
+            let g = *k.geometry();
             let a = Cell::new(from.0 % w, from.1 % h);
             let field = SightField::new(&k, (0, 0, w - 1, h - 1), 0.0, clearance);
             for i in 0..g.len() {

@@ -23,6 +23,7 @@
 //! answers are exact. Cost: the cells of the disc and the few columns beyond
 //! the lit intervals, one blocking test each; no square roots.
 
+use super::shadowcast::quadrants;
 use crate::geom::Cell;
 use crate::grid::GridGeometry;
 
@@ -97,17 +98,6 @@ fn square_slopes(depth: i64, col: i64) -> (Slope, Slope) {
     (low, high)
 }
 
-/// One quadrant's mapping from (depth, col) to grid indices and its clip limits.
-struct Quadrant {
-    d_depth: isize,
-    d_col: isize,
-    max_depth: i64,
-    col_lo: i64,
-    col_hi: i64,
-    /// Whether this quadrant reports the cells on the diagonals (`|col| == depth`).
-    owns_diagonals: bool,
-}
-
 /// Calls `visit(index)` once for every cell `b` within `range_cells` of `origin`
 /// (centre to centre) such that the segment between the two centres touches the
 /// closed square of no cell with `blocks(index)`: the cells that
@@ -120,9 +110,7 @@ pub fn certain_cells(
     blocks: impl Fn(usize) -> bool,
     mut visit: impl FnMut(usize),
 ) {
-    let (w, h) = (geometry.width as i64, geometry.height as i64);
-    let (ox, oy) = (origin.x as i64, origin.y as i64);
-    if ox >= w || oy >= h {
+    if origin.x >= geometry.width || origin.y >= geometry.height {
         return;
     }
     let base = geometry.index(origin);
@@ -130,45 +118,7 @@ pub fn certain_cells(
         return;
     }
     visit(base);
-    // No cell is farther than w + h; the bound keeps the squares from overflow.
-    let r = range_cells.max(0.0).min((w + h) as f64);
-    let r2 = (r * r + 1e-9).floor() as i64;
-    let max_r = (r2 as f64).sqrt().floor() as i64;
-    let wi = w as isize;
-    let quadrants = [
-        Quadrant {
-            d_depth: wi,
-            d_col: 1,
-            max_depth: (h - 1 - oy).min(max_r),
-            col_lo: -ox,
-            col_hi: w - 1 - ox,
-            owns_diagonals: true,
-        },
-        Quadrant {
-            d_depth: -wi,
-            d_col: 1,
-            max_depth: oy.min(max_r),
-            col_lo: -ox,
-            col_hi: w - 1 - ox,
-            owns_diagonals: true,
-        },
-        Quadrant {
-            d_depth: 1,
-            d_col: wi,
-            max_depth: (w - 1 - ox).min(max_r),
-            col_lo: -oy,
-            col_hi: h - 1 - oy,
-            owns_diagonals: false,
-        },
-        Quadrant {
-            d_depth: -1,
-            d_col: wi,
-            max_depth: ox.min(max_r),
-            col_lo: -oy,
-            col_hi: h - 1 - oy,
-            owns_diagonals: false,
-        },
-    ];
+    let (r2, quadrants) = quadrants(geometry, origin, range_cells);
     let mut stack: Vec<(i64, Slope, Slope)> = Vec::new();
     for q in &quadrants {
         let at = |depth: i64, col: i64| {
@@ -256,23 +206,11 @@ pub fn certain_cells(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::geom::Point;
     use crate::grid::{CellState, OccupancyGrid};
     use crate::sensing::sight_clear;
     use proptest::prelude::*;
 
-    fn grid(w: usize, h: usize, cells: &[u8]) -> OccupancyGrid {
-        let g = GridGeometry::new(w, h, 0.1, Point::default());
-        let mut k = OccupancyGrid::filled(g, CellState::Free);
-        for (i, &v) in cells.iter().enumerate().take(g.len()) {
-            match v {
-                0 => k.cells_mut()[i] = CellState::Occupied,
-                1 => k.cells_mut()[i] = CellState::Unknown,
-                _ => {}
-            }
-        }
-        k
-    }
+    use crate::grid::fixtures::coded as grid;
 
     fn seen(k: &OccupancyGrid, a: Cell, range: f64) -> Vec<bool> {
         let g = k.geometry();
