@@ -57,6 +57,9 @@ pub(super) struct Quadrant {
     pub col_hi: i64,
     /// Whether cells on the diagonals (|col| == depth) are reported by this quadrant.
     pub owns_diagonals: bool,
+    /// The cell offset (x, y) of one step in depth, and of one step in column.
+    pub depth_step: (i64, i64),
+    pub col_step: (i64, i64),
 }
 
 /// The disc of `range_cells` around `origin` (which must lie on the grid): its
@@ -86,6 +89,8 @@ pub(super) fn quadrants(
             col_lo: -ox,
             col_hi: w - 1 - ox,
             owns_diagonals: true,
+            depth_step: (0, 1),
+            col_step: (1, 0),
         },
         // south: depth −y, col +x
         Quadrant {
@@ -95,6 +100,8 @@ pub(super) fn quadrants(
             col_lo: -ox,
             col_hi: w - 1 - ox,
             owns_diagonals: true,
+            depth_step: (0, -1),
+            col_step: (1, 0),
         },
         // east: depth +x, col +y
         Quadrant {
@@ -104,6 +111,8 @@ pub(super) fn quadrants(
             col_lo: -oy,
             col_hi: h - 1 - oy,
             owns_diagonals: false,
+            depth_step: (1, 0),
+            col_step: (0, 1),
         },
         // west: depth −x, col +y
         Quadrant {
@@ -113,6 +122,8 @@ pub(super) fn quadrants(
             col_lo: -oy,
             col_hi: h - 1 - oy,
             owns_diagonals: false,
+            depth_step: (-1, 0),
+            col_step: (0, 1),
         },
     ];
     (r2, quadrants)

@@ -98,7 +98,7 @@ fn square_slopes(depth: i64, col: i64) -> (Slope, Slope) {
     (low, high)
 }
 
-/// Calls `visit(index)` once for every cell `b` within `range_cells` of `origin`
+/// Calls `visit(index, b)` once for every cell `b` within `range_cells` of `origin`
 /// (centre to centre) such that the segment between the two centres touches the
 /// closed square of no cell with `blocks(index)`: the cells that
 /// [`super::sight_clear`] with no clearance accepts (the origin included, when it
@@ -108,7 +108,7 @@ pub fn certain_cells(
     origin: Cell,
     range_cells: f64,
     blocks: impl Fn(usize) -> bool,
-    mut visit: impl FnMut(usize),
+    mut visit: impl FnMut(usize, Cell),
 ) {
     if origin.x >= geometry.width || origin.y >= geometry.height {
         return;
@@ -117,7 +117,7 @@ pub fn certain_cells(
     if blocks(base) {
         return;
     }
-    visit(base);
+    visit(base, origin);
     let (r2, quadrants) = quadrants(geometry, origin, range_cells);
     let mut stack: Vec<(i64, Slope, Slope)> = Vec::new();
     for q in &quadrants {
@@ -160,7 +160,16 @@ pub fn certain_cells(
                         continue;
                     }
                 }
-                visit(i);
+                let (dx, dy) = (
+                    d * q.depth_step.0 + col * q.col_step.0,
+                    d * q.depth_step.1 + col * q.col_step.1,
+                );
+                // Inside the grid, so the coordinates are non-negative.
+                let cell = Cell::new(
+                    (origin.x as i64 + dx) as usize,
+                    (origin.y as i64 + dy) as usize,
+                );
+                visit(i, cell);
             }
             if d == q.max_depth {
                 continue;
@@ -221,8 +230,9 @@ mod tests {
             a,
             range,
             |i| cells[i] != CellState::Free,
-            |i| {
+            |i, c| {
                 assert!(!out[i], "cell {i} visited twice");
+                assert_eq!(g.index(c), i);
                 out[i] = true;
             },
         );

@@ -26,7 +26,7 @@ use crate::grid::{CellState, GridGeometry, OccupancyGrid};
 use crate::sensing::visible_cells;
 
 /// The cells in certain line of sight from one position within range, over the
-/// rows and columns of the range disc's bounding box (clipped to the grid): only
+/// range disc's bounding box (clipped to the grid): only
 /// known-Free cells, by the rule of [`LinkRule`]. Without a sight clearance the
 /// view is complete when made; with one, the exact sight test of a cell runs the
 /// first time the cell is asked about, and its answer is kept.
@@ -41,9 +41,9 @@ pub struct View<'k> {
     y0: usize,
     x1: usize,
     y1: usize,
-    /// The grid's width: the states keep the grid's row stride (rows `y0..=y1`),
-    /// so a visited cell's state is found without a division.
-    stride: usize,
+    /// The box's width: the states cover the box only, row by row, so that a
+    /// view's memory is bounded by the link range, not by the map.
+    width: usize,
     state: Vec<StdCell<u8>>,
 }
 
@@ -92,9 +92,9 @@ impl<'k> View<'k> {
         let (x0, y0) = (from.x.saturating_sub(reach), from.y.saturating_sub(reach));
         let x1 = from.x.saturating_add(reach).min(g.width.saturating_sub(1));
         let y1 = from.y.saturating_add(reach).min(g.height.saturating_sub(1));
-        let stride = g.width;
-        let row0 = y0 * stride;
-        let mut state = vec![UNSEEN; (y1 + 1 - y0) * stride];
+        let width = x1 + 1 - x0;
+        let mut state = vec![UNSEEN; (y1 + 1 - y0) * width];
+        let at = |c: Cell| (c.y - y0) * width + (c.x - x0);
         // Every visited cell lies in the disc, so in the box.
         let field = field.filter(|_| Self::needs_field(knowledge, rule));
         if field.is_none() {
@@ -103,9 +103,9 @@ impl<'k> View<'k> {
                 from,
                 rule.max / res,
                 |i| k[i] != CellState::Free,
-                |i| {
+                |i, c| {
                     if wanted(i) {
-                        state[i - row0] = SEEN;
+                        state[at(c)] = SEEN;
                     }
                 },
             );
@@ -117,7 +117,7 @@ impl<'k> View<'k> {
                 |i| k[i] != CellState::Free,
                 |i| {
                     if k[i] == CellState::Free && wanted(i) {
-                        state[i - row0] = UNTESTED;
+                        state[at(g.cell(i))] = UNTESTED;
                     }
                     false
                 },
@@ -130,7 +130,7 @@ impl<'k> View<'k> {
             for x in from.x.saturating_sub(near).max(x0)..=(from.x + near).min(x1) {
                 let (dx, dy) = (x as f64 - from.x as f64, y as f64 - from.y as f64);
                 if dx * dx + dy * dy < min * min - 1e-9 {
-                    state[(y - y0) * stride + x] = UNSEEN;
+                    state[(y - y0) * width + (x - x0)] = UNSEEN;
                 }
             }
         }
@@ -142,7 +142,7 @@ impl<'k> View<'k> {
             y0,
             x1,
             y1,
-            stride,
+            width,
             state: state.into_iter().map(StdCell::new).collect(),
         }
     }
@@ -152,8 +152,7 @@ impl<'k> View<'k> {
         match self.state[j].get() {
             SEEN => true,
             UNTESTED => {
-                let i = self.y0 * self.stride + j;
-                let cell = Cell::new(i % self.stride, i / self.stride);
+                let cell = self.cell_of(j);
                 // Untested cells exist only with a field.
                 let clear = self
                     .field
@@ -164,6 +163,19 @@ impl<'k> View<'k> {
             }
             _ => false,
         }
+    }
+
+    /// The cell of state index `j`.
+    #[inline]
+    fn cell_of(&self, j: usize) -> Cell {
+        Cell::new(self.x0 + j % self.width, self.y0 + j / self.width)
+    }
+
+    /// The grid index of state index `j`.
+    #[inline]
+    fn index_of(&self, j: usize) -> usize {
+        let c = self.cell_of(j);
+        c.y * self.knowledge.geometry().width + c.x
     }
 
     /// Whether the cell at state index `j` may be seen (not yet ruled out).
@@ -179,30 +191,28 @@ impl<'k> View<'k> {
             && cell.y >= self.y0
             && cell.x <= self.x1
             && cell.y <= self.y1
-            && self.seen((cell.y - self.y0) * self.stride + cell.x)
+            && self.seen((cell.y - self.y0) * self.width + (cell.x - self.x0))
     }
 
     /// The grid indices of the cells seen, ascending.
     pub fn cells(&self) -> impl Iterator<Item = usize> + '_ {
-        let start = self.y0 * self.stride;
         (0..self.state.len())
             .filter(|&j| self.seen(j))
-            .map(move |j| start + j)
+            .map(move |j| self.index_of(j))
     }
 
     /// Whether some cell with `pred(index)` is seen (`pred` is asked first, so
     /// that only cells it accepts are tested).
     pub fn sees_any(&self, pred: impl Fn(usize) -> bool) -> bool {
-        let start = self.y0 * self.stride;
-        (0..self.state.len()).any(|j| self.candidate(j) && pred(start + j) && self.seen(j))
+        (0..self.state.len()).any(|j| self.candidate(j) && pred(self.index_of(j)) && self.seen(j))
     }
 
     /// The view as a mask over all cells of a grid of `geometry`.
     pub fn to_mask(&self, geometry: &GridGeometry) -> Vec<bool> {
         let mut out = vec![false; geometry.len()];
-        let start = self.y0 * geometry.width;
         for j in 0..self.state.len() {
-            out[start + j] = self.seen(j);
+            let c = self.cell_of(j);
+            out[c.y * geometry.width + c.x] = self.seen(j);
         }
         out
     }
@@ -223,9 +233,9 @@ pub fn seen_by_both(geometry: &GridGeometry, a: &View, b: &View) -> Vec<u32> {
         return out;
     }
     for y in y0..=y1 {
-        let (ra, rb) = ((y - a.y0) * a.stride, (y - b.y0) * b.stride);
+        let (ra, rb) = ((y - a.y0) * a.width, (y - b.y0) * b.width);
         for x in x0..=x1 {
-            let (ja, jb) = (ra + x, rb + x);
+            let (ja, jb) = (ra + x - a.x0, rb + x - b.x0);
             if a.candidate(ja) && b.candidate(jb) && a.seen(ja) && b.seen(jb) {
                 out.push((y * w + x) as u32);
             }
