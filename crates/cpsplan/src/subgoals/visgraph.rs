@@ -288,20 +288,24 @@ impl VisibilityGraph {
         // longer than that, which leaves the order of everything it takes until
         // the goal unchanged when the shortest path is no longer (the bound is
         // consistent, so every entry taken before the goal costs no more than
-        // the path); otherwise it searches again without the limit.
-        let limit = guide
+        // the path); otherwise it searches again within the widest limit the
+        // round can use.
+        let travel = guide
             .filter(|_| limited)
             .and_then(|f| f.metres(g.index(to)))
             .unwrap_or(f64::INFINITY);
         loop {
             let among: Vec<usize> = (0..n).filter(|&v| sum(self.vertices[v]) <= bound).collect();
             let last = among.len() == n;
+            // A round other than the last takes only a path no longer than its
+            // bound, so no search of it needs a wider limit than that.
+            let widest = if last { f64::INFINITY } else { bound };
+            let first = travel.min(widest);
             let found = self
-                .search_among(g, ok, &overlay, &among, guide, limit)
+                .search_among(g, ok, &overlay, &among, guide, first)
                 .or_else(|| {
-                    limit
-                        .is_finite()
-                        .then(|| self.search_among(g, ok, &overlay, &among, guide, f64::INFINITY))?
+                    (first < widest)
+                        .then(|| self.search_among(g, ok, &overlay, &among, guide, widest))?
                 });
             match found {
                 Some((path, length)) if last || length <= bound => return Some(path),
