@@ -6,16 +6,7 @@
 
 use std::error::Error;
 
-use cpsplan_cli::render::{Chart, Series};
-
-const COLOURS: [(u8, u8, u8); 6] = [
-    (31, 119, 180),
-    (255, 127, 14),
-    (44, 160, 44),
-    (214, 39, 40),
-    (148, 103, 189),
-    (140, 86, 75),
-];
+use cpsplan_cli::render::{Chart, Series, SERIES_COLOURS as COLOURS};
 
 fn main() -> Result<(), Box<dyn Error>> {
     let mut args = std::env::args().skip(1);

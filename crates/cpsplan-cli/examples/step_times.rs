@@ -22,16 +22,7 @@ use std::time::Instant;
 use cpsplan::world::builtin::BuiltinMap;
 use cpsplan::world::{default_start, resample_for};
 use cpsplan::{run_episode_with, CellState, Config, OccupancyGrid};
-use cpsplan_cli::render::{Chart, Series};
-
-const COLOURS: [(u8, u8, u8); 6] = [
-    (31, 119, 180),
-    (255, 127, 14),
-    (44, 160, 44),
-    (214, 39, 40),
-    (148, 103, 189),
-    (140, 86, 75),
-];
+use cpsplan_cli::render::{Chart, Series, SERIES_COLOURS as COLOURS};
 
 const USAGE: &str = "usage: run MAP CHILDREN OUT.csv | plot OUT.svg TITLE LABEL=CSV...";
 

@@ -10,6 +10,16 @@ use super::canvas::{text_width, Canvas, Rgb};
 use super::palette;
 use super::RenderError;
 
+/// Colours for the series of a chart, in order (the first six of Tableau 10).
+pub const SERIES_COLOURS: [(u8, u8, u8); 6] = [
+    (31, 119, 180),
+    (255, 127, 14),
+    (44, 160, 44),
+    (214, 39, 40),
+    (148, 103, 189),
+    (140, 86, 75),
+];
+
 /// One series of a chart.
 #[derive(Debug, Clone)]
 pub struct Series {

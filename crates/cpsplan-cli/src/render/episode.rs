@@ -87,11 +87,7 @@ pub fn render_episode_pictures(
     let view = normal.window.geometry(truth.geometry());
     drop(normal);
     let mut best: Option<EpisodeFigure> = None;
-    for zoom in 2..=4 {
-        let layout = zoomed_layout(&view, zoom);
-        if layout.width_px.max(layout.height_px) > LARGE_MAX_PX && best.is_some() {
-            break;
-        }
+    for (zoom, _) in large_layouts(&view) {
         // The new picture is larger and numbers more: the last one can go first.
         drop(best.take());
         let fig = draw_episode_figure(truth, episode, title, zoom)?;
@@ -115,15 +111,21 @@ pub fn pictures_peak_bytes(geometry: &GridGeometry, large: bool) -> u64 {
         let px = (l.width_px.max(1) as u64).saturating_mul(l.height_px.max(1) as u64);
         px.saturating_mul(4).saturating_mul(5) / 4
     };
-    let mut largest = canvas(&zoomed_layout(geometry, 1));
-    for zoom in (2..=4).filter(|_| large) {
-        let layout = zoomed_layout(geometry, zoom);
-        if layout.width_px.max(layout.height_px) > LARGE_MAX_PX && zoom > 2 {
-            break;
-        }
-        largest = largest.max(canvas(&layout));
-    }
+    let normal = canvas(&zoomed_layout(geometry, 1));
+    let largest = large_layouts(geometry)
+        .filter(|_| large)
+        .map(|(_, l)| canvas(&l))
+        .fold(normal, u64::max);
     largest.saturating_mul(7) / 5
+}
+
+/// The zooms the larger picture may take, with their layouts of `view`: two
+/// times the normal pixels per cell always, three and four while the longer
+/// side stays within [`LARGE_MAX_PX`].
+fn large_layouts(view: &GridGeometry) -> impl Iterator<Item = (usize, MapLayout)> + '_ {
+    (2..=4)
+        .map(|zoom| (zoom, zoomed_layout(view, zoom)))
+        .take_while(|(zoom, l)| *zoom == 2 || l.width_px.max(l.height_px) <= LARGE_MAX_PX)
 }
 
 /// The map's layout at `zoom` times the normal pixels per cell of `view`.

@@ -354,11 +354,11 @@ pub(crate) fn reached_within<T: Copy>(
                 }
             }
         }
+        // Steps cost at least STRAIGHT, so nothing was queued into this slot:
+        // its buffer goes back for reuse.
         let mut bucket = bucket;
         bucket.clear();
-        if buckets[slot].is_empty() {
-            buckets[slot] = bucket;
-        }
+        buckets[slot] = bucket;
         slot = (slot + 1) % RING;
         current += 1;
     }

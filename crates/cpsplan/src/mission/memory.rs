@@ -14,7 +14,10 @@
 //! the per-cell ones from the campus map (6.07 million cells, 307 scans) and one
 //! team step on a 10⁸-cell site (1 km × 1 km at 0.1 m, everything known: 3.84 GB
 //! against 3.84 GB estimated); docs/PERFORMANCE.md lists the estimate against
-//! the measured peak on every map tried (within about a quarter). The pictures'
+//! the measured peak on every map tried: within about 10 % on the large
+//! maps, up to a quarter low or half high on small ones, and short with children
+//! on open ground, where the Visibility-Graph search's queue (not counted here)
+//! grows with the corners in view. The pictures'
 //! size is the caller's to give ([`MemoryEstimate::with_pictures`]): it depends
 //! on how they are drawn.
 
