@@ -150,8 +150,14 @@ fn bench_parent_round(group: &mut BenchmarkGroup<'_, WallTime>, m: &MidEpisode) 
     group.bench_function("gain_estimate", |b| {
         b.iter(|| cpsplan::sensing::GainEstimate::new(black_box(k), config))
     });
-    // In an episode the gain estimate's field is kept across scans.
-    let field = cpsplan::sensing::NearField::new(k, config);
+    // In an episode the gain estimate's field, the border and the band are kept
+    // across scans.
+    let near = cpsplan::sensing::NearField::new(k, config);
+    let frontier = cpsplan::parent::Frontier::new(k, &config.parent);
+    let kept = cpsplan::parent::Kept {
+        near: &near,
+        frontier: &frontier,
+    };
     group.bench_function("plan_parent_kept_field", |b| {
         b.iter(|| {
             let mut rng = ChaCha8Rng::seed_from_u64(7);
@@ -160,7 +166,7 @@ fn bench_parent_round(group: &mut BenchmarkGroup<'_, WallTime>, m: &MidEpisode) 
                 m.parent,
                 config,
                 &mut rng,
-                Some(&field),
+                Some(kept),
             )
         })
     });

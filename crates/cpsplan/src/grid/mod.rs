@@ -20,6 +20,8 @@
 //! - [`cover`]: greedy set cover with lazy evaluation.
 //! - [`traversability`]: clearances and drivable cells of a robot.
 //! - [`terrain`]: drivable cells with their connected regions.
+//! - [`window`]: rectangles of cells, and sorted cell lists updated inside them
+//!   (state kept across scans).
 
 pub mod cover;
 pub mod distance;
@@ -32,6 +34,7 @@ pub mod terrain;
 pub mod travel;
 pub mod traversability;
 pub mod traversal;
+pub mod window;
 
 #[cfg(test)]
 pub(crate) mod fixtures;

@@ -15,7 +15,7 @@ use super::team;
 use crate::config::{number, Config, ConfigError, Planner};
 use crate::geom::{Cell, Point};
 use crate::grid::{CellState, OccupancyGrid};
-use crate::parent::{Decision, ParentPlan};
+use crate::parent::{Decision, Frontier, Kept, ParentPlan};
 use crate::sensing::{scan, NearField, ScanOutcome};
 use crate::world::CoverageTracker;
 
@@ -362,8 +362,10 @@ pub fn run_episode_with(
         config.parent.calibration_floor,
     );
     let cell_m2 = g.resolution * g.resolution;
-    // The gain estimate's field, kept up to date scan by scan.
+    // The gain estimate's field and the border and band, kept up to date scan by
+    // scan.
     let mut near = NearField::new(&knowledge, config);
+    let mut frontier = Frontier::new(&knowledge, &config.parent);
     let mut changed: Vec<usize> = Vec::new();
     let stop_reason = loop {
         changed.clear();
@@ -372,6 +374,7 @@ pub fn run_episode_with(
             changed.push(i);
         });
         near.update(&knowledge, &changed);
+        frontier.update(&knowledge, &changed);
         clock.scan();
         if steps.is_empty() && config.children.count > 0 {
             children = team::initial_children(&knowledge, here, config);
@@ -382,8 +385,12 @@ pub fn run_episode_with(
         }
         let mut round = *config;
         round.parent.gain_scale *= calibration.factor();
+        let kept = Kept {
+            near: &near,
+            frontier: &frontier,
+        };
         let (mut plan, reach, groundwork) =
-            team::plan_round(&knowledge, here, &round, &mut rng, Some(&near));
+            team::plan_round(&knowledge, here, &round, &mut rng, Some(kept));
         let at_limit = steps.len() + 1 >= config.mission.max_scans;
         // Diminishing returns: what the last scans added against the known area.
         let window = config.mission.stop_window;

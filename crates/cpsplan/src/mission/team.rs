@@ -17,9 +17,8 @@ use crate::grid::{OccupancyGrid, Terrain, Traversability, UNREACHED};
 use crate::motion::{gvd, Roads};
 use crate::parent::{
     fallback_candidate, plan_parent_with_field, reachable_frontier, relocated_candidate,
-    relocations, ParentPlan, ParentReach, CPS_FALLBACK_TRIES, RELOCATE_CANDIDATES,
+    relocations, Kept, ParentPlan, ParentReach, CPS_FALLBACK_TRIES, RELOCATE_CANDIDATES,
 };
-use crate::sensing::NearField;
 use crate::subgoals::{MoveError, MovePlan, Retrieval};
 
 /// The part of a step's CPS planning that does not depend on the parent's
@@ -75,17 +74,17 @@ impl Groundwork {
 }
 
 /// The parent's planning round (Eq. 1) and, with children, the groundwork of the
-/// CPS planners computed alongside it; `near`: the gain estimate's field of
-/// `knowledge` when the caller keeps it ([`plan_parent_with_field`]).
+/// CPS planners computed alongside it; `kept`: what the caller keeps up to date
+/// for `knowledge` ([`plan_parent_with_field`]).
 pub fn plan_round(
     knowledge: &OccupancyGrid,
     here: Cell,
     config: &Config,
     rng: &mut ChaCha8Rng,
-    near: Option<&NearField>,
+    kept: Option<Kept<'_>>,
 ) -> (ParentPlan, ParentReach, Option<Groundwork>) {
     let ((plan, reach), groundwork) = rayon::join(
-        || plan_parent_with_field(knowledge, here, config, rng, near),
+        || plan_parent_with_field(knowledge, here, config, rng, kept),
         || {
             (config.children.count > 0).then(|| {
                 Groundwork::new(

@@ -4,53 +4,60 @@
 //! In: the knowledge map. Out: the border cells, and the border without the
 //! isolated notches that lead nowhere ([`significant_border`]).
 
+use crate::grid::window::Window;
 use crate::grid::{CellState, GridGeometry, OccupancyGrid};
 
 /// Known-Free cells with an Unknown 4-neighbour: the border lines of Fig. 4, in
 /// index order.
 pub fn border_cells(knowledge: &OccupancyGrid) -> Vec<usize> {
+    let mut out = Vec::new();
+    if let Some(all) = Window::all(knowledge.geometry()) {
+        border_in(knowledge, all, &mut out);
+    }
+    out
+}
+
+/// Appends to `out` the border cells ([`border_cells`]) inside `window`, in index
+/// order.
+pub(super) fn border_in(knowledge: &OccupancyGrid, window: Window, out: &mut Vec<usize>) {
     let g = knowledge.geometry();
     let (w, h) = (g.width, g.height);
     let k = knowledge.cells();
-    let mut out = Vec::new();
-    if w == 0 || h == 0 {
-        return out;
-    }
-    // Row by row, in straight loops over whole rows: `near[x]` is whether a
-    // 4-neighbour of (x, y) is Unknown (outside the grid counts as known).
+    let Window { x0, y0, x1, y1 } = window;
+    let span = x1 - x0 + 1;
+    // Row by row, in straight loops over the window's rows: `near[j]` is whether a
+    // 4-neighbour of (x0 + j, y) is Unknown (outside the grid counts as known).
     let unknown = |c: &CellState| u8::from(*c == CellState::Unknown);
-    let mut here = vec![0u8; w];
-    let mut near = vec![0u8; w];
-    for y in 0..h {
+    let mut near = vec![0u8; span];
+    for y in y0..=y1 {
         let row = &k[y * w..][..w];
-        for (u, c) in here.iter_mut().zip(row) {
-            *u = unknown(c);
-        }
         near.fill(0);
-        for (n, &u) in near[1..].iter_mut().zip(&here[..w - 1]) {
-            *n |= u;
+        // West neighbours: cells x0 - 1 .. x1 - 1.
+        let (skip, from) = if x0 == 0 { (1, 0) } else { (0, x0 - 1) };
+        for (n, c) in near[skip..].iter_mut().zip(&row[from..]) {
+            *n |= unknown(c);
         }
-        for (n, &u) in near[..w - 1].iter_mut().zip(&here[1..]) {
-            *n |= u;
+        // East neighbours: cells x0 + 1 ..= x1 + 1, inside the grid.
+        for (n, c) in near.iter_mut().zip(&row[x0 + 1..]) {
+            *n |= unknown(c);
         }
         for other in [y.checked_sub(1), Some(y + 1).filter(|&a| a < h)]
             .into_iter()
             .flatten()
         {
-            for (n, c) in near.iter_mut().zip(&k[other * w..][..w]) {
+            for (n, c) in near.iter_mut().zip(&k[other * w + x0..][..span]) {
                 *n |= unknown(c);
             }
         }
-        for (n, c) in near.iter_mut().zip(row) {
+        for (n, c) in near.iter_mut().zip(&row[x0..=x1]) {
             *n &= u8::from(*c == CellState::Free);
         }
-        for (x, &n) in near.iter().enumerate() {
+        for (j, &n) in near.iter().enumerate() {
             if n != 0 {
-                out.push(y * w + x);
+                out.push(y * w + x0 + j);
             }
         }
     }
-    out
 }
 
 /// Keeps the border cells that belong to 8-connected groups of at least

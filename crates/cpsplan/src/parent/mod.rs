@@ -7,6 +7,8 @@
 //! Eq. (1) `G = R·(1/P + α/L + β·S)`, and the chosen target.
 //!
 //! - [`border_cells`], [`significant_border`]: step 1 (`border`).
+//! - [`Frontier`]: the border and the band kept across scans, updated where a scan
+//!   changed the map.
 //! - [`band()`]: step 2's band; [`scatter`], [`cluster_count`]: the samples and `k`.
 //! - [`kmeans()`]: step 3.
 //! - [`Candidate`]: step 4 and the terms of Eq. (1); [`evaluate`]: `G`.
@@ -21,6 +23,7 @@ mod band;
 mod border;
 mod candidate;
 mod fallback;
+mod frontier;
 mod kmeans;
 mod planner;
 mod relocation;
@@ -32,9 +35,11 @@ pub use band::band;
 pub use border::{border_cells, significant_border};
 pub use candidate::{Candidate, CandidateOrigin};
 pub use fallback::{fallback_candidate, frontier_cells, reachable_frontier, CPS_FALLBACK_TRIES};
+pub use frontier::Frontier;
 pub use kmeans::{kmeans, Clustering};
 pub use planner::{
-    plan_parent, plan_parent_with_field, plan_parent_with_reach, Decision, ParentPlan, ParentReach,
+    plan_parent, plan_parent_with_field, plan_parent_with_reach, Decision, Kept, ParentPlan,
+    ParentReach,
 };
 pub use relocation::{
     relocated_candidate, relocations, RELOCATE_CANDIDATES, RELOCATE_RADIUS_M, RELOCATE_SPACING_M,

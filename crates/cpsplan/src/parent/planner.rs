@@ -12,18 +12,18 @@
 //! square metre, nearest first) for a position that does, and only stops when there
 //! is none.
 
+use std::borrow::Cow;
 use std::collections::HashSet;
 
 use rand_chacha::ChaCha8Rng;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
-use super::band::band;
-use super::border::{border_cells, significant_border};
 use super::candidate::{
     candidate_terms, fill_terms, new_candidate, set_gain, Candidate, CandidateOrigin,
 };
 use super::fallback::frontier_cells;
+use super::frontier::Frontier;
 use super::kmeans::kmeans;
 use super::samples::{band_area, cluster_count, scatter};
 use super::score::{evaluate, Terms};
@@ -119,14 +119,24 @@ pub fn plan_parent_with_reach(
     plan_parent_with_field(knowledge, parent, config, rng, None)
 }
 
-/// [`plan_parent_with_reach`] with the gain estimate's [`NearField`] of
-/// `knowledge` when an episode keeps it up to date (`None`: computed here).
+/// What an episode keeps up to date scan by scan for its planning rounds, so that
+/// a round does not compute it again over the whole map.
+#[derive(Debug, Clone, Copy)]
+pub struct Kept<'a> {
+    /// The gain estimate's field of the knowledge map.
+    pub near: &'a NearField,
+    /// The border and the band of the knowledge map (steps 1 and 2).
+    pub frontier: &'a Frontier,
+}
+
+/// [`plan_parent_with_reach`] with the state an episode keeps up to date for
+/// `knowledge` ([`Kept`]; `None`: computed here).
 pub fn plan_parent_with_field(
     knowledge: &OccupancyGrid,
     parent: Cell,
     config: &Config,
     rng: &mut ChaCha8Rng,
-    near: Option<&NearField>,
+    kept: Option<Kept<'_>>,
 ) -> (ParentPlan, ParentReach) {
     let g = *knowledge.geometry();
     let pc = &config.parent;
@@ -134,12 +144,12 @@ pub fn plan_parent_with_field(
     // Steps 1–3 (border, band, samples, k-means: the only users of `rng`) do not
     // depend on the drivable cells and travel distances from the parent: both run
     // at once.
-    let ((trav, field, gain), (border, stages)) = rayon::join(
+    let ((trav, field, gain), (frontier, stages)) = rayon::join(
         || {
             let (trav, gain) = rayon::join(
                 || Traversability::new(knowledge, config.robot.radius, parent),
-                || match near {
-                    Some(f) => GainEstimate::from_field(f, knowledge, config),
+                || match kept {
+                    Some(k) => GainEstimate::from_field(k.near, knowledge, config),
                     None => GainEstimate::new(knowledge, config),
                 },
             );
@@ -147,22 +157,23 @@ pub fn plan_parent_with_field(
             (trav, field, gain)
         },
         || {
-            let all = border_cells(knowledge);
-            let border = significant_border(&g, &all, pc.min_frontier_cells);
-            if border.is_empty() {
-                return (border, Err(all.len()));
-            }
-            let band_cells = band(knowledge, &border, pc.band_width);
-
-            // Steps 2 and 3: samples scattered in the band, k adapted to its size.
-            let samples = scatter(&g, &band_cells, pc, rng);
-            let k = cluster_count(band_area(&g, band_cells.len()), pc);
-            let clustering = kmeans(&samples, k, pc.kmeans_iterations, rng);
-            (border, Ok((band_cells, samples, clustering)))
+            let frontier = match kept {
+                Some(k) => Cow::Borrowed(k.frontier),
+                None => Cow::Owned(Frontier::new(knowledge, pc)),
+            };
+            let stages = (!frontier.significant().is_empty()).then(|| {
+                // Steps 2 and 3: samples scattered in the band, k adapted to its size.
+                let band_cells = frontier.band();
+                let samples = scatter(&g, band_cells, pc, rng);
+                let k = cluster_count(band_area(&g, band_cells.len()), pc);
+                let clustering = kmeans(&samples, k, pc.kmeans_iterations, rng);
+                (samples, clustering)
+            });
+            (frontier, stages)
         },
     );
     let mut plan = ParentPlan {
-        border_cells: border.len(),
+        border_cells: frontier.significant().len(),
         band_cells: 0,
         samples: Vec::new(),
         sample_count: 0,
@@ -172,15 +183,13 @@ pub fn plan_parent_with_field(
         path: Vec::new(),
         path_length_m: 0.0,
     };
-    let (band_cells, samples, clustering) = match stages {
-        Ok(stages) => stages,
-        Err(fragments) => {
-            if fragments > 0 {
-                plan.decision = Decision::FrontierBelowThreshold;
-            }
-            return (plan, ParentReach { trav, field, gain });
+    let Some((samples, clustering)) = stages else {
+        if !frontier.border().is_empty() {
+            plan.decision = Decision::FrontierBelowThreshold;
         }
+        return (plan, ParentReach { trav, field, gain });
     };
+    let band_cells = frontier.band();
     plan.band_cells = band_cells.len();
     plan.clusters = clustering.centroids.len();
     plan.sample_count = samples.len();
@@ -257,7 +266,7 @@ pub fn plan_parent_with_field(
     }
     if !worth.iter().any(|&w| w) {
         if let Some(cell) =
-            frontier_cells(knowledge, &band_cells, &trav, &field, config, &gain).next()
+            frontier_cells(knowledge, band_cells, &trav, &field, config, &gain).next()
         {
             let mut c = new_candidate(cell, g.cell_center(cell), CandidateOrigin::Fallback, 0, &g);
             let (s, cells) = view(cell);

@@ -1,0 +1,310 @@
+//! Steps 1 and 2 of section IV-A-1 kept across scans: the border, its significant
+//! part and the band, updated where a scan changed the knowledge map instead of
+//! recomputed over the whole map.
+//!
+//! In: the knowledge map and the cells a scan changed. Out: the same border,
+//! significant border and band as [`border_cells`], [`significant_border`] and
+//! [`band()`] on the whole map (a property test compares them after every scan).
+//!
+//! Why a window suffices, with `W` the bounding box of the changed cells and `r`
+//! the band's width in whole cells (a path of at most that travel takes at most
+//! `r` steps, and no step moves more than one row or column):
+//! - a cell's border state depends on its 4-neighbours, so it can change only in
+//!   `W` grown by one cell;
+//! - a group of 8-connected border cells changes only if it has a cell in `W`
+//!   grown by two (a group split or joined there has one): only those groups are
+//!   flooded again, and only their cells can become or stop being significant;
+//! - a cell's band state depends on the Free cells and significant border cells
+//!   within `r` of it, so it can change only within `r` of a changed cell or of a
+//!   cell whose significance changed, and is found again from the significant
+//!   border cells within `2r` of those.
+
+use crate::config::ParentConfig;
+use crate::grid::travel::reached_within;
+use crate::grid::window::{merge_changes, Spans, Window};
+use crate::grid::{CellState, DistanceField, GridGeometry, OccupancyGrid};
+
+use super::band::band;
+use super::border::{border_cells, border_in, significant_border};
+
+/// Cell flag: a border cell.
+const BORDER: u8 = 1;
+/// Cell flag: a border cell of a significant group.
+const SIGNIFICANT: u8 = 2;
+/// Cell flag: flooded in this update.
+const FLOODED: u8 = 4;
+
+/// The border, the significant border and the band of one knowledge map, kept up
+/// to date scan by scan ([`Frontier::update`]).
+#[derive(Debug, Clone)]
+pub struct Frontier {
+    geometry: GridGeometry,
+    min_cells: usize,
+    band_cost: u32,
+    band_steps: usize,
+    flags: Vec<u8>,
+    border: Vec<usize>,
+    significant: Vec<usize>,
+    band: Vec<usize>,
+    /// The next list, swapped in after an update (kept to reuse its memory).
+    spare: Vec<usize>,
+}
+
+impl Frontier {
+    /// The border and band of `knowledge` from scratch, with the border groups'
+    /// minimum size and the band's width of `config`.
+    pub fn new(knowledge: &OccupancyGrid, config: &ParentConfig) -> Self {
+        let g = *knowledge.geometry();
+        let border = border_cells(knowledge);
+        let significant = significant_border(&g, &border, config.min_frontier_cells);
+        let band = band(knowledge, &significant, config.band_width);
+        let mut flags = vec![0u8; g.len()];
+        for &i in &border {
+            flags[i] |= BORDER;
+        }
+        for &i in &significant {
+            flags[i] |= SIGNIFICANT;
+        }
+        let band_cost = DistanceField::cost_of(config.band_width, g.resolution);
+        Self {
+            geometry: g,
+            min_cells: config.min_frontier_cells,
+            band_cost,
+            band_steps: (band_cost / crate::grid::travel::STRAIGHT) as usize,
+            flags,
+            border,
+            significant,
+            band,
+            spare: Vec::new(),
+        }
+    }
+
+    /// Every border cell, in index order ([`border_cells`]).
+    pub fn border(&self) -> &[usize] {
+        &self.border
+    }
+
+    /// The border cells of significant groups, in index order
+    /// ([`significant_border`]).
+    pub fn significant(&self) -> &[usize] {
+        &self.significant
+    }
+
+    /// The band around the significant border, in index order ([`band()`]).
+    pub fn band(&self) -> &[usize] {
+        &self.band
+    }
+
+    /// Brings the state up to date with `knowledge` after the cells `changed` (any
+    /// changes, in any order, repeats allowed) took new states.
+    pub fn update(&mut self, knowledge: &OccupancyGrid, changed: &[usize]) {
+        let g = self.geometry;
+        debug_assert_eq!(&g, knowledge.geometry());
+        let Some(changes) = Window::bounding(&g, changed) else {
+            return;
+        };
+        // Step 1: the border, in the changed window grown by one.
+        let near = changes.grow(1, &g);
+        let near_spans = Spans::of(&[near], g.width);
+        let old: Vec<usize> = near_spans.select(&self.border).collect();
+        for &i in &old {
+            self.flags[i] &= !BORDER;
+        }
+        let mut fresh = Vec::new();
+        border_in(knowledge, near, &mut fresh);
+        for &i in &fresh {
+            self.flags[i] |= BORDER;
+        }
+        near_spans.replace(&self.border, &fresh, &mut self.spare);
+        std::mem::swap(&mut self.border, &mut self.spare);
+
+        // The significant border: cells that left the border, and the groups that
+        // reach into the window grown by two, flooded again.
+        let mut removed = Vec::new();
+        let mut added = Vec::new();
+        for &i in &old {
+            if self.flags[i] & (BORDER | SIGNIFICANT) == SIGNIFICANT {
+                self.flags[i] &= !SIGNIFICANT;
+                removed.push(i);
+            }
+        }
+        let touching = changes.grow(2, &g);
+        let mut dirty = vec![changes.grow(2, &g)];
+        let starts: Vec<usize> = Spans::of(&[touching], g.width)
+            .select(&self.border)
+            .collect();
+        let mut flooded = Vec::new();
+        let mut group = Vec::new();
+        for s in starts {
+            if self.flags[s] & FLOODED != 0 {
+                continue;
+            }
+            self.flood(s, &mut group);
+            flooded.extend_from_slice(&group);
+            let keep = self.min_cells <= 1 || group.len() >= self.min_cells;
+            let mut flipped: Option<Window> = None;
+            for &i in &group {
+                let was = self.flags[i] & SIGNIFICANT != 0;
+                if was == keep {
+                    continue;
+                }
+                self.flags[i] ^= SIGNIFICANT;
+                if keep {
+                    added.push(i);
+                } else {
+                    removed.push(i);
+                }
+                let (x, y) = (i % g.width, i / g.width);
+                if !touching.holds(x, y) {
+                    let cell = Window {
+                        x0: x,
+                        y0: y,
+                        x1: x,
+                        y1: y,
+                    };
+                    flipped = Some(match flipped {
+                        None => cell,
+                        Some(b) => Window {
+                            x0: b.x0.min(x),
+                            y0: b.y0.min(y),
+                            x1: b.x1.max(x),
+                            y1: b.y1.max(y),
+                        },
+                    });
+                }
+            }
+            dirty.extend(flipped);
+        }
+        for &i in &flooded {
+            self.flags[i] &= !FLOODED;
+        }
+        removed.sort_unstable();
+        added.sort_unstable();
+        merge_changes(&self.significant, &removed, &added, &mut self.spare);
+        std::mem::swap(&mut self.significant, &mut self.spare);
+
+        // Step 2: the band within r of a changed cell or a changed significance,
+        // searched again from the significant border within 2r of them.
+        let r = self.band_steps;
+        let affected: Vec<Window> = dirty.iter().map(|b| b.grow(r, &g)).collect();
+        let sourced: Vec<Window> = dirty.iter().map(|b| b.grow(2 * r, &g)).collect();
+        let affected = Spans::of(&affected, g.width);
+        let sources: Vec<usize> = Spans::of(&sourced, g.width)
+            .select(&self.significant)
+            .collect();
+        let reached = reached_within(
+            &g,
+            knowledge.cells(),
+            |c| c == CellState::Free,
+            &sources,
+            self.band_cost,
+        );
+        let fresh: Vec<usize> = affected.select(&reached).collect();
+        affected.replace(&self.band, &fresh, &mut self.spare);
+        std::mem::swap(&mut self.band, &mut self.spare);
+    }
+
+    /// Floods the 8-connected group of border cells of `start` into `group`,
+    /// marking its cells [`FLOODED`].
+    fn flood(&mut self, start: usize, group: &mut Vec<usize>) {
+        let (w, h) = (self.geometry.width, self.geometry.height);
+        group.clear();
+        group.push(start);
+        self.flags[start] |= FLOODED;
+        let mut next = 0;
+        while next < group.len() {
+            let i = group[next];
+            next += 1;
+            let (x, y) = (i % w, i / w);
+            for ny in y.saturating_sub(1)..=(y + 1).min(h - 1) {
+                for nx in x.saturating_sub(1)..=(x + 1).min(w - 1) {
+                    let j = ny * w + nx;
+                    if self.flags[j] & (BORDER | FLOODED) == BORDER {
+                        self.flags[j] |= FLOODED;
+                        group.push(j);
+                    }
+                }
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geom::{Cell, Point};
+    use crate::sensing::scan;
+    use proptest::prelude::*;
+
+    fn assert_fresh(state: &Frontier, knowledge: &OccupancyGrid, config: &ParentConfig) {
+        let fresh = Frontier::new(knowledge, config);
+        assert_eq!(state.border(), fresh.border(), "border");
+        assert_eq!(
+            state.significant(),
+            fresh.significant(),
+            "significant border"
+        );
+        assert_eq!(state.band(), fresh.band(), "band");
+        assert_eq!(state.flags, fresh.flags, "flags");
+    }
+
+    const STATES: [CellState; 3] = [CellState::Unknown, CellState::Free, CellState::Occupied];
+
+    proptest! {
+        #![proptest_config(ProptestConfig { cases: 64, ..ProptestConfig::default() })]
+
+        /// Scans of a random map from random cells: after every scan the kept
+        /// state equals the state computed from scratch.
+        #[test]
+        fn scans_keep_the_state_of_a_fresh_computation(
+            w in 8usize..60,
+            h in 8usize..60,
+            walls in proptest::collection::vec((0usize..60, 0usize..60, 1usize..12, 1usize..12), 0..10),
+            stops in proptest::collection::vec((0usize..60, 0usize..60), 1..8),
+            range in 3.0f64..25.0,
+            min_cells in 0usize..6,
+            band_width in 0.0f64..2.0,
+        ) {
+            let g = GridGeometry::new(w, h, 0.1, Point::default());
+            let mut truth = OccupancyGrid::filled(g, CellState::Free);
+            for &(x, y, rw, rh) in &walls {
+                let (x, y) = (x % w, y % h);
+                truth.fill_rect(x, y, (x + rw).min(w), (y + rh).min(h), CellState::Occupied);
+            }
+            let config = ParentConfig { min_frontier_cells: min_cells, band_width, ..ParentConfig::default() };
+            let mut knowledge = OccupancyGrid::filled(g, CellState::Unknown);
+            let mut state = Frontier::new(&knowledge, &config);
+            for &(x, y) in &stops {
+                let mut changed = Vec::new();
+                scan(&truth, &mut knowledge, Cell::new(x % w, y % h), range, |i| changed.push(i));
+                state.update(&knowledge, &changed);
+                assert_fresh(&state, &knowledge, &config);
+            }
+        }
+
+        /// Arbitrary changes, including known cells turning Unknown again.
+        #[test]
+        fn any_changes_keep_the_state_of_a_fresh_computation(
+            w in 4usize..40,
+            h in 4usize..40,
+            start in proptest::collection::vec(0usize..3, 1600),
+            edits in proptest::collection::vec((0usize..40, 0usize..40, 1usize..15, 1usize..15, 0usize..3), 1..8),
+            min_cells in 0usize..8,
+            band_width in 0.0f64..1.5,
+        ) {
+            let g = GridGeometry::new(w, h, 0.1, Point::default());
+            let cells = (0..g.len()).map(|i| STATES[start[i]]).collect();
+            let mut knowledge = OccupancyGrid::from_cells(g, cells).unwrap();
+            let config = ParentConfig { min_frontier_cells: min_cells, band_width, ..ParentConfig::default() };
+            let mut state = Frontier::new(&knowledge, &config);
+            for &(x, y, rw, rh, s) in &edits {
+                let (x, y) = (x % w, y % h);
+                let (x1, y1) = ((x + rw).min(w), (y + rh).min(h));
+                knowledge.fill_rect(x, y, x1, y1, STATES[s]);
+                let changed: Vec<usize> = (y..y1).flat_map(|yy| (x..x1).map(move |xx| yy * w + xx)).collect();
+                state.update(&knowledge, &changed);
+                assert_fresh(&state, &knowledge, &config);
+            }
+        }
+    }
+}
