@@ -150,13 +150,15 @@ fn bench_parent_round(group: &mut BenchmarkGroup<'_, WallTime>, m: &MidEpisode) 
     group.bench_function("gain_estimate", |b| {
         b.iter(|| cpsplan::sensing::GainEstimate::new(black_box(k), config))
     });
-    // In an episode the gain estimate's field, the border and the band are kept
-    // across scans.
+    // In an episode the gain estimate's field, the border, the band and the
+    // drivable cells are kept across scans.
     let near = cpsplan::sensing::NearField::new(k, config);
     let frontier = cpsplan::parent::Frontier::new(k, &config.parent);
+    let drivable = cpsplan::grid::Drivable::new(k, config.robot.radius);
     let kept = cpsplan::parent::Kept {
         near: &near,
         frontier: &frontier,
+        drivable: &drivable,
     };
     group.bench_function("plan_parent_kept_field", |b| {
         b.iter(|| {
@@ -287,7 +289,7 @@ fn team(c: &mut Criterion) {
             continue;
         }
         group.bench_function("groundwork", |b| {
-            b.iter(|| Groundwork::new(black_box(k), parent, config.robot.radius, &params))
+            b.iter(|| Groundwork::new(black_box(k), parent, config.robot.radius, &params, None))
         });
         let trav = Traversability::new(k, config.robot.radius, parent);
         group.bench_function("gvd", |b| b.iter(|| gvd(black_box(k), &trav)));

@@ -42,4 +42,4 @@ pub(crate) mod fixtures;
 pub use occupancy::{CellState, GridGeometry, OccupancyGrid};
 pub use terrain::{Terrain, NO_REGION};
 pub use travel::{DistanceField, UNREACHED};
-pub use traversability::Traversability;
+pub use traversability::{Drivable, Traversability};

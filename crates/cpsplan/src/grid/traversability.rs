@@ -30,32 +30,38 @@
 //!   [`Traversability::clearance_at`] walks the columns outward from the cell, taking
 //!   the nearest Occupied cell of each, until no closer one can exist.
 
+use std::sync::Arc;
+
 use crate::geom::Cell;
+use crate::grid::window::Window;
 use crate::grid::{CellState, OccupancyGrid};
 
 /// Clearances and drivable cells of one knowledge map.
+///
+/// The per-cell flags are shared (`Arc`): a robot with no escape region has the
+/// same passable as traversable cells, and the rounds of an episode share the
+/// cells its [`Drivable`] keeps.
 #[derive(Debug, Clone)]
 pub struct Traversability {
     /// Per cell: a robot of the given radius may stand here.
-    pub traversable: Vec<bool>,
+    pub traversable: Arc<Vec<bool>>,
     /// Per cell: traversable, or in the escape region of the robot.
-    pub passable: Vec<bool>,
-    clearance: OccupiedColumns,
+    pub passable: Arc<Vec<bool>>,
+    clearance: Arc<OccupiedColumns>,
     radius: f64,
     /// Some cell is passable without being traversable.
     escape: bool,
 }
 
-/// The known Occupied cells, by column: the rows of the Occupied cells of column
-/// `x0 + c` are `rows[start[c]..start[c + 1]]`, ascending.
+/// The known Occupied cells, by column: `columns[x]` holds the rows of the
+/// Occupied cells of column `x`, ascending.
 #[derive(Debug, Clone)]
 struct OccupiedColumns {
     grid_width: usize,
     resolution: f64,
     /// Inclusive bounds of the known cells: outside them the clearance is infinite.
     known: Option<(usize, usize, usize, usize)>,
-    start: Vec<usize>,
-    rows: Vec<usize>,
+    columns: Vec<Vec<usize>>,
 }
 
 /// The clearance rule in metres for a centre distance of `d` cells: the centre
@@ -76,50 +82,14 @@ impl Traversability {
     /// Computes clearances for `knowledge` and the drivable cells of a robot of
     /// `radius` metres standing at `robot` (its escape region is passable).
     pub fn new(knowledge: &OccupancyGrid, radius: f64, robot: Cell) -> Self {
-        Self::build(knowledge, radius, Some(robot))
+        Drivable::new(knowledge, radius).for_robot(knowledge, robot)
     }
 
     /// The drivable cells of robots of `radius` metres with no escape region:
     /// `passable` equals `traversable`. For robots that only pass through the map
     /// another robot stands on (another robot's escape region is no way for them).
     pub fn without_escape(knowledge: &OccupancyGrid, radius: f64) -> Self {
-        Self::build(knowledge, radius, None)
-    }
-
-    fn build(knowledge: &OccupancyGrid, radius: f64, robot: Option<Cell>) -> Self {
-        let g = *knowledge.geometry();
-        let res = g.resolution;
-        let k = knowledge.cells();
-        let (w, h) = (g.width, g.height);
-        let n = g.len();
-        let known = knowledge.bounds_of(|c| c != CellState::Unknown);
-        let drivable = || {
-            let mut traversable = vec![false; n];
-            if let Some(bounds) = known {
-                if let Some(rule) = SafeRule::new(radius, res, w, h) {
-                    let max_need = rule.need.first().copied().unwrap_or(0);
-                    if max_need < u8::MAX as u32 {
-                        mark_traversable::<u8>(k, w, h, bounds, &rule, &mut traversable);
-                    } else if max_need < u16::MAX as u32 {
-                        mark_traversable::<u16>(k, w, h, bounds, &rule, &mut traversable);
-                    } else {
-                        mark_traversable::<u32>(k, w, h, bounds, &rule, &mut traversable);
-                    }
-                }
-            }
-            traversable
-        };
-        let (clearance, traversable) =
-            rayon::join(|| OccupiedColumns::new(k, w, res, known), drivable);
-        let mut passable = traversable.clone();
-        let escape = robot.is_some_and(|r| mark_escape_region(knowledge, r, radius, &mut passable));
-        Self {
-            traversable,
-            passable,
-            clearance,
-            radius,
-            escape,
-        }
+        Drivable::new(knowledge, radius).without_escape()
     }
 
     /// The robot radius, metres, these cells were computed for.
@@ -142,6 +112,134 @@ impl Traversability {
     }
 }
 
+/// The traversable cells and clearances of robots of one radius on a knowledge
+/// map, kept up to date scan by scan ([`Drivable::update`]): whether a cell is
+/// traversable depends only on the cells within the robot's radius of it, so a
+/// scan changes it only that close to the cells it revealed. Each round takes
+/// its [`Traversability`] from here ([`Drivable::for_robot`]) instead of
+/// computing one over the whole map.
+#[derive(Debug, Clone)]
+pub struct Drivable {
+    radius: f64,
+    rule: Option<SafeRule>,
+    traversable: Arc<Vec<bool>>,
+    clearance: Arc<OccupiedColumns>,
+}
+
+impl Drivable {
+    /// The traversable cells and clearances of robots of `radius` metres on
+    /// `knowledge`, from scratch.
+    pub fn new(knowledge: &OccupancyGrid, radius: f64) -> Self {
+        let g = *knowledge.geometry();
+        let res = g.resolution;
+        let k = knowledge.cells();
+        let (w, h) = (g.width, g.height);
+        let n = g.len();
+        let known = knowledge.bounds_of(|c| c != CellState::Unknown);
+        let rule = SafeRule::new(radius, res, w, h);
+        let drivable = || {
+            let mut traversable = vec![false; n];
+            if let (Some(bounds), Some(rule)) = (known, &rule) {
+                mark_traversable(k, w, h, bounds, rule, &mut traversable);
+            }
+            traversable
+        };
+        let (clearance, traversable) =
+            rayon::join(|| OccupiedColumns::new(k, w, res, known), drivable);
+        Self {
+            radius,
+            rule,
+            traversable: Arc::new(traversable),
+            clearance: Arc::new(clearance),
+        }
+    }
+
+    /// The robot radius, metres, these cells are kept for.
+    pub fn radius(&self) -> f64 {
+        self.radius
+    }
+
+    /// Brings the cells up to date with `knowledge` after the cells `changed` (any
+    /// changes, in any order, repeats allowed) took new states.
+    pub fn update(&mut self, knowledge: &OccupancyGrid, changed: &[usize]) {
+        let g = *knowledge.geometry();
+        let (w, h) = (g.width, g.height);
+        let k = knowledge.cells();
+        let Some(changes) = Window::bounding(&g, changed) else {
+            return;
+        };
+        let known = if changed.iter().all(|&i| k[i] != CellState::Unknown) {
+            Some(match self.clearance.known {
+                Some((x0, y0, x1, y1)) => (
+                    x0.min(changes.x0),
+                    y0.min(changes.y0),
+                    x1.max(changes.x1),
+                    y1.max(changes.y1),
+                ),
+                None => (changes.x0, changes.y0, changes.x1, changes.y1),
+            })
+        } else {
+            knowledge.bounds_of(|c| c != CellState::Unknown)
+        };
+        Arc::make_mut(&mut self.clearance).update(k, changes, known);
+        let Some(rule) = &self.rule else {
+            return;
+        };
+        // The cells within reach of a change, and the window whose cells decide them.
+        let reach = rule.reach();
+        let cells = changes.grow(reach, &g);
+        let window = cells.grow(reach, &g);
+        let e = rule.min_edge - 1;
+        if w <= 2 * e || h <= 2 * e {
+            return;
+        }
+        let (cx0, cx1) = (cells.x0.max(e), cells.x1.min(w - 1 - e));
+        let (cy0, cy1) = (cells.y0.max(e), cells.y1.min(h - 1 - e));
+        if cx0 > cx1 || cy0 > cy1 {
+            return;
+        }
+        let traversable = Arc::make_mut(&mut self.traversable);
+        let frame = (
+            window.x0,
+            window.y0,
+            window.x1 - window.x0 + 1,
+            window.y1 - window.y0 + 1,
+        );
+        mark_cells(k, w, frame, (cx0, cy0, cx1, cy1), rule, traversable);
+    }
+
+    /// The drivable cells of a robot standing at `robot`: the traversable cells
+    /// and its escape region (see [`Traversability`]).
+    pub fn for_robot(&self, knowledge: &OccupancyGrid, robot: Cell) -> Traversability {
+        let start = knowledge.geometry().index(robot);
+        if self.traversable[start] {
+            // A robot on a traversable cell needs no escape region.
+            return self.without_escape();
+        }
+        let mut passable = Vec::clone(&self.traversable);
+        let escape = mark_escape_region(knowledge, robot, self.radius, &mut passable);
+        Traversability {
+            traversable: Arc::clone(&self.traversable),
+            passable: Arc::new(passable),
+            clearance: Arc::clone(&self.clearance),
+            radius: self.radius,
+            escape,
+        }
+    }
+
+    /// The drivable cells of robots with no escape region
+    /// ([`Traversability::without_escape`]).
+    pub fn without_escape(&self) -> Traversability {
+        Traversability {
+            traversable: Arc::clone(&self.traversable),
+            passable: Arc::clone(&self.traversable),
+            clearance: Arc::clone(&self.clearance),
+            radius: self.radius,
+            escape: false,
+        }
+    }
+}
+
 impl OccupiedColumns {
     fn new(
         k: &[CellState],
@@ -153,36 +251,45 @@ impl OccupiedColumns {
             grid_width: w,
             resolution,
             known,
-            start: Vec::new(),
-            rows: Vec::new(),
+            columns: vec![Vec::new(); w],
         };
-        let Some((x0, y0, x1, y1)) = known else {
-            return columns;
-        };
-        let bw = x1 - x0 + 1;
-        let box_rows = || (y0..=y1).map(|y| (y, &k[y * w + x0..][..bw]));
-        let mut count = vec![0usize; bw + 1];
-        for (_, row) in box_rows() {
-            for (c, &s) in count[1..].iter_mut().zip(row) {
-                *c += usize::from(s == CellState::Occupied);
-            }
+        if let Some((x0, y0, x1, y1)) = known {
+            columns.fill(k, (x0, y0, x1, y1));
         }
-        for c in 1..=bw {
-            count[c] += count[c - 1];
-        }
-        let mut rows = vec![0usize; count[bw]];
-        let mut next = count.clone();
-        for (y, row) in box_rows() {
-            for (c, &s) in row.iter().enumerate() {
+        columns
+    }
+
+    /// Appends the Occupied cells of the window `(x0, y0, x1, y1)` to their
+    /// columns, row by row.
+    fn fill(&mut self, k: &[CellState], (x0, y0, x1, y1): (usize, usize, usize, usize)) {
+        let w = self.grid_width;
+        for y in y0..=y1 {
+            let row = &k[y * w + x0..=y * w + x1];
+            for (column, &s) in self.columns[x0..=x1].iter_mut().zip(row) {
                 if s == CellState::Occupied {
-                    rows[next[c]] = y;
-                    next[c] += 1;
+                    column.push(y);
                 }
             }
         }
-        columns.start = count;
-        columns.rows = rows;
-        columns
+    }
+
+    /// Takes the Occupied cells of `window` from `k` again, with the known cells'
+    /// bounds `known`.
+    fn update(
+        &mut self,
+        k: &[CellState],
+        window: Window,
+        known: Option<(usize, usize, usize, usize)>,
+    ) {
+        let w = self.grid_width;
+        self.known = known;
+        for x in window.x0..=window.x1 {
+            let column = &mut self.columns[x];
+            let a = column.partition_point(|&r| r < window.y0);
+            let b = column.partition_point(|&r| r <= window.y1);
+            let rows = (window.y0..=window.y1).filter(|&y| k[y * w + x] == CellState::Occupied);
+            column.splice(a..b, rows);
+        }
     }
 
     fn at(&self, index: usize) -> f32 {
@@ -197,7 +304,7 @@ impl OccupiedColumns {
         let bx = x - x0;
         // Vertical distance from row y to the nearest Occupied cell of column c.
         let vertical = |c: usize| -> Option<u64> {
-            let rows = &self.rows[self.start[c]..self.start[c + 1]];
+            let rows = &self.columns[x0 + c];
             let p = rows.partition_point(|&r| r < y);
             let below = p.checked_sub(1).map(|q| y - rows[q]);
             let above = rows.get(p).map(|&r| r - y);
@@ -228,6 +335,7 @@ impl OccupiedColumns {
 /// The traversability rule `clearance_metres(min(d, edge)) ≥ radius − 1e-6` turned into
 /// integer thresholds: the squared distance `d²` to the nearest non-Free cell at
 /// least some `T`, and `edge ≥ min_edge`.
+#[derive(Debug, Clone)]
 struct SafeRule {
     /// Smallest distance to the grid's edge (1 for the outermost cells) that passes.
     min_edge: usize,
@@ -237,6 +345,15 @@ struct SafeRule {
 }
 
 impl SafeRule {
+    /// How many cells away a non-Free cell can still make a cell fail the rule:
+    /// a change decides the cells at most this far from it.
+    fn reach(&self) -> usize {
+        // A cell fails on a non-Free cell dx columns away (dx < need.len()) closer
+        // than need[dx] rows.
+        let vertical = self.need.first().map_or(0, |&v| v as usize);
+        vertical.max(self.need.len()).saturating_sub(1)
+    }
+
     /// `None` if no cell of a `w × h` grid can pass.
     fn new(radius: f64, res: f64, w: usize, h: usize) -> Option<Self> {
         let need_m = radius as f32 - 1e-6;
@@ -342,8 +459,8 @@ vertical!(u32);
 
 /// Marks the traversable cells of the known box `(x0, y0, x1, y1)` of a `w × h`
 /// grid. Vertical distances to non-Free cells are taken over the window (the box
-/// plus a one-cell ring), saturated at `T::MAX`, which exceeds every `need`.
-fn mark_traversable<T: Vertical>(
+/// plus a one-cell ring: everything beyond it is Unknown).
+fn mark_traversable(
     k: &[CellState],
     w: usize,
     h: usize,
@@ -365,21 +482,40 @@ fn mark_traversable<T: Vertical>(
     let (sx0, sy0) = (x0.saturating_sub(1), y0.saturating_sub(1));
     let (sx1, sy1) = ((x1 + 1).min(w - 1), (y1 + 1).min(h - 1));
     let (sw, sh) = (sx1 - sx0 + 1, sy1 - sy0 + 1);
-    T::with_buffer(|g| {
-        mark_window(
-            k,
-            w,
-            (sx0, sy0, sw, sh),
-            (cx0, cy0, cx1, cy1),
-            rule,
-            g,
-            traversable,
-        )
-    });
+    mark_cells(
+        k,
+        w,
+        (sx0, sy0, sw, sh),
+        (cx0, cy0, cx1, cy1),
+        rule,
+        traversable,
+    );
 }
 
-/// [`mark_traversable`] on the window `(sx0, sy0, sw, sh)` for the cells
-/// `(cx0, cy0)..=(cx1, cy1)`, with `g` as the buffer of vertical distances.
+/// [`mark_window`] with vertical distances in the smallest type that holds every
+/// `need` (saturated at its maximum, which exceeds every `need`).
+fn mark_cells(
+    k: &[CellState],
+    w: usize,
+    frame: (usize, usize, usize, usize),
+    cells: (usize, usize, usize, usize),
+    rule: &SafeRule,
+    traversable: &mut [bool],
+) {
+    let max_need = rule.need.first().copied().unwrap_or(0);
+    if max_need < u8::MAX as u32 {
+        u8::with_buffer(|g| mark_window(k, w, frame, cells, rule, g, traversable));
+    } else if max_need < u16::MAX as u32 {
+        u16::with_buffer(|g| mark_window(k, w, frame, cells, rule, g, traversable));
+    } else {
+        u32::with_buffer(|g| mark_window(k, w, frame, cells, rule, g, traversable));
+    }
+}
+
+/// Marks the traversable cells `(cx0, cy0)..=(cx1, cy1)` from the non-Free cells
+/// of the window `(sx0, sy0, sw, sh)`, with `g` as the buffer of vertical
+/// distances: every cell of the window that could make one of them fail the rule
+/// must lie in the window (the grid's edges apart, which `min_edge` rules).
 fn mark_window<T: Vertical>(
     k: &[CellState],
     w: usize,
@@ -621,7 +757,7 @@ mod tests {
             for (i, c) in clearance.iter().enumerate() {
                 proptest::prop_assert_eq!(t.clearance_at(i).to_bits(), c.to_bits(), "clearance at {}", i);
             }
-            proptest::prop_assert_eq!(t.traversable, traversable);
+            proptest::prop_assert_eq!(t.traversable.as_slice(), traversable.as_slice());
         }
     }
 
@@ -646,7 +782,84 @@ mod tests {
                 for (i, c) in clearance.iter().enumerate() {
                     assert_eq!(t.clearance_at(i).to_bits(), c.to_bits());
                 }
-                assert_eq!(t.traversable, traversable, "radius {radius} res {res}");
+                assert_eq!(*t.traversable, traversable, "radius {radius} res {res}");
+            }
+        }
+    }
+
+    /// The kept cells against cells computed from scratch: flags, known bounds
+    /// and the Occupied cells of every column.
+    fn assert_fresh(kept: &Drivable, knowledge: &OccupancyGrid) {
+        let fresh = Drivable::new(knowledge, kept.radius());
+        assert_eq!(kept.traversable, fresh.traversable, "traversable");
+        assert_eq!(kept.clearance.known, fresh.clearance.known, "known bounds");
+        assert_eq!(
+            kept.clearance.columns, fresh.clearance.columns,
+            "occupied columns"
+        );
+    }
+
+    const STATES: [CellState; 3] = [CellState::Unknown, CellState::Free, CellState::Occupied];
+
+    proptest::proptest! {
+        #![proptest_config(proptest::prelude::ProptestConfig { cases: 96, ..Default::default() })]
+
+        /// Scans of a random map from random cells: after every scan the kept
+        /// cells equal cells computed from scratch.
+        #[test]
+        fn scans_keep_the_cells_of_a_fresh_computation(
+            w in 4usize..60,
+            h in 4usize..60,
+            res in proptest::sample::select(vec![0.05, 0.1, 0.13, 0.25]),
+            radius in proptest::sample::select(vec![0.0, 0.1, 0.15, 0.25, 0.35, 0.5, 1.3]),
+            walls in proptest::collection::vec((0usize..60, 0usize..60, 1usize..12, 1usize..12), 0..10),
+            stops in proptest::collection::vec((0usize..60, 0usize..60), 1..8),
+            range in 3.0f64..25.0,
+        ) {
+            let g = GridGeometry::new(w, h, res, Point::default());
+            let mut truth = OccupancyGrid::filled(g, CellState::Free);
+            for &(x, y, rw, rh) in &walls {
+                let (x, y) = (x % w, y % h);
+                truth.fill_rect(x, y, (x + rw).min(w), (y + rh).min(h), CellState::Occupied);
+            }
+            let mut knowledge = OccupancyGrid::filled(g, CellState::Unknown);
+            let mut kept = Drivable::new(&knowledge, radius);
+            for &(x, y) in &stops {
+                let mut changed = Vec::new();
+                crate::sensing::scan(&truth, &mut knowledge, Cell::new(x % w, y % h), range, |i| {
+                    changed.push(i)
+                });
+                kept.update(&knowledge, &changed);
+                assert_fresh(&kept, &knowledge);
+                // What a round takes from it is what it would compute itself.
+                let robot = Cell::new(x % w, y % h);
+                let t = kept.for_robot(&knowledge, robot);
+                let f = Traversability::new(&knowledge, radius, robot);
+                proptest::prop_assert_eq!(&t.passable, &f.passable);
+                proptest::prop_assert_eq!(t.has_escape_region(), f.has_escape_region());
+            }
+        }
+
+        /// Arbitrary changes, including known cells turning Unknown again.
+        #[test]
+        fn any_changes_keep_the_cells_of_a_fresh_computation(
+            w in 1usize..40,
+            h in 1usize..40,
+            radius in proptest::sample::select(vec![0.0, 0.05, 0.15, 0.25, 0.45]),
+            start in proptest::collection::vec(0usize..3, 1600),
+            edits in proptest::collection::vec((0usize..40, 0usize..40, 1usize..15, 1usize..15, 0usize..3), 1..8),
+        ) {
+            let g = GridGeometry::new(w, h, 0.1, Point::default());
+            let cells = (0..g.len()).map(|i| STATES[start[i]]).collect();
+            let mut knowledge = OccupancyGrid::from_cells(g, cells).unwrap();
+            let mut kept = Drivable::new(&knowledge, radius);
+            for &(x, y, rw, rh, s) in &edits {
+                let (x, y) = (x % w, y % h);
+                let (x1, y1) = ((x + rw).min(w), (y + rh).min(h));
+                knowledge.fill_rect(x, y, x1, y1, STATES[s]);
+                let changed: Vec<usize> = (y..y1).flat_map(|yy| (x..x1).map(move |xx| yy * w + xx)).collect();
+                kept.update(&knowledge, &changed);
+                assert_fresh(&kept, &knowledge);
             }
         }
     }

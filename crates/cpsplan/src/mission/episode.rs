@@ -14,7 +14,7 @@ use super::record::MoveRecord;
 use super::team;
 use crate::config::{number, Config, ConfigError, Planner};
 use crate::geom::{Cell, Point};
-use crate::grid::{CellState, OccupancyGrid};
+use crate::grid::{CellState, Drivable, OccupancyGrid};
 use crate::parent::{Decision, Frontier, Kept, ParentPlan};
 use crate::sensing::{scan, NearField, ScanOutcome};
 use crate::world::CoverageTracker;
@@ -362,10 +362,11 @@ pub fn run_episode_with(
         config.parent.calibration_floor,
     );
     let cell_m2 = g.resolution * g.resolution;
-    // The gain estimate's field and the border and band, kept up to date scan by
-    // scan.
+    // The gain estimate's field, the border and band, and the parent's drivable
+    // cells, kept up to date scan by scan.
     let mut near = NearField::new(&knowledge, config);
     let mut frontier = Frontier::new(&knowledge, &config.parent);
+    let mut drivable = Drivable::new(&knowledge, config.robot.radius);
     let mut changed: Vec<usize> = Vec::new();
     let stop_reason = loop {
         changed.clear();
@@ -373,8 +374,15 @@ pub fn run_episode_with(
             tracker.note_seen(i);
             changed.push(i);
         });
-        near.update(&knowledge, &changed);
-        frontier.update(&knowledge, &changed);
+        rayon::join(
+            || near.update(&knowledge, &changed),
+            || {
+                rayon::join(
+                    || frontier.update(&knowledge, &changed),
+                    || drivable.update(&knowledge, &changed),
+                )
+            },
+        );
         clock.scan();
         if steps.is_empty() && config.children.count > 0 {
             children = team::initial_children(&knowledge, here, config);
@@ -388,6 +396,7 @@ pub fn run_episode_with(
         let kept = Kept {
             near: &near,
             frontier: &frontier,
+            drivable: &drivable,
         };
         let (mut plan, reach, groundwork) =
             team::plan_round(&knowledge, here, &round, &mut rng, Some(kept));

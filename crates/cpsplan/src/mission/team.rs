@@ -13,7 +13,7 @@ use crate::config::Config;
 use crate::geom::{polyline_length, Cell};
 use crate::grid::path::to_world;
 use crate::grid::travel::sweep;
-use crate::grid::{OccupancyGrid, Terrain, Traversability, UNREACHED};
+use crate::grid::{Drivable, OccupancyGrid, Terrain, Traversability, UNREACHED};
 use crate::motion::{gvd, Roads};
 use crate::parent::{
     fallback_candidate, plan_parent_with_field, reachable_frontier, relocated_candidate,
@@ -35,18 +35,24 @@ pub struct Groundwork {
 
 impl Groundwork {
     /// The groundwork for a parent of `parent_radius` metres at `parent` and
-    /// children with `params`.
+    /// children with `params`; `kept`: drivable cells the caller keeps up to date
+    /// for `knowledge`, used for the robots of their radius.
     pub fn new(
         knowledge: &OccupancyGrid,
         parent: Cell,
         parent_radius: f64,
         params: &CycleParams,
+        kept: Option<&Drivable>,
     ) -> Self {
         let same = parent_radius == params.child_radius;
+        let for_robot = |radius: f64| match kept {
+            Some(d) if d.radius() == radius => d.for_robot(knowledge, parent),
+            _ => Traversability::new(knowledge, radius, parent),
+        };
         let ((child_terrain, children), parent_gvd) = rayon::join(
             || {
                 if same {
-                    let trav = Traversability::new(knowledge, params.child_radius, parent);
+                    let trav = for_robot(params.child_radius);
                     (None, gvd(knowledge, &trav))
                 } else {
                     let t = Terrain::without_escape(knowledge, params.child_radius);
@@ -54,14 +60,7 @@ impl Groundwork {
                     (Some(t), d)
                 }
             },
-            || {
-                (!same).then(|| {
-                    gvd(
-                        knowledge,
-                        &Traversability::new(knowledge, parent_radius, parent),
-                    )
-                })
-            },
+            || (!same).then(|| gvd(knowledge, &for_robot(parent_radius))),
         );
         Self {
             child_terrain,
@@ -92,6 +91,7 @@ pub fn plan_round(
                     here,
                     config.robot.radius,
                     &CycleParams::from_config(config),
+                    kept.map(|k| k.drivable),
                 )
             })
         },
@@ -186,7 +186,7 @@ pub fn execute_move(
         child_terrain,
         roads,
     } = groundwork
-        .unwrap_or_else(|| Groundwork::new(knowledge, here, config.robot.radius, &params));
+        .unwrap_or_else(|| Groundwork::new(knowledge, here, config.robot.radius, &params, None));
     let ParentReach { trav, field, gain } = reach;
     let parent_terrain = Terrain::from_sweep(trav, &field);
     // The random choices of the step's placements follow the seed and the state.

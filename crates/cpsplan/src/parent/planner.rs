@@ -32,7 +32,7 @@ use crate::config::{Config, Planner};
 use crate::geom::{polyline_length, Cell, Point};
 use crate::grid::path::{shortcut_path, to_world};
 use crate::grid::travel::sweep;
-use crate::grid::{DistanceField, OccupancyGrid, Traversability, UNREACHED};
+use crate::grid::{DistanceField, Drivable, OccupancyGrid, Traversability, UNREACHED};
 use crate::sensing::{Gain, GainEstimate, NearField};
 
 /// What the planner decided.
@@ -127,6 +127,8 @@ pub struct Kept<'a> {
     pub near: &'a NearField,
     /// The border and the band of the knowledge map (steps 1 and 2).
     pub frontier: &'a Frontier,
+    /// The drivable cells of the knowledge map for robots of the parent's radius.
+    pub drivable: &'a Drivable,
 }
 
 /// [`plan_parent_with_reach`] with the state an episode keeps up to date for
@@ -147,7 +149,12 @@ pub fn plan_parent_with_field(
     let ((trav, field, gain), (frontier, stages)) = rayon::join(
         || {
             let (trav, gain) = rayon::join(
-                || Traversability::new(knowledge, config.robot.radius, parent),
+                || match kept {
+                    Some(k) if k.drivable.radius() == config.robot.radius => {
+                        k.drivable.for_robot(knowledge, parent)
+                    }
+                    _ => Traversability::new(knowledge, config.robot.radius, parent),
+                },
                 || match kept {
                     Some(k) => GainEstimate::from_field(k.near, knowledge, config),
                     None => GainEstimate::new(knowledge, config),

@@ -109,8 +109,9 @@ pub struct VisibilityGraph {
     /// [`VisibilityGraph::shortest_path`] for endpoints in pockets that the
     /// simplification smoothed away.
     pub detail: Vec<Cell>,
-    /// The drivable cells the graph was built on.
-    drivable: Vec<bool>,
+    /// The drivable cells the graph was built on (shared with their
+    /// [`Traversability`]).
+    drivable: std::sync::Arc<Vec<bool>>,
     geometry: GridGeometry,
 }
 
@@ -138,7 +139,7 @@ impl VisibilityGraph {
         VisibilityGraph {
             vertices,
             detail,
-            drivable: drivable.clone(),
+            drivable: std::sync::Arc::clone(drivable),
             geometry: g,
         }
     }
