@@ -1,7 +1,8 @@
 //! The state an episode keeps across scans instead of recomputing it gives the
 //! planner exactly what a from-scratch computation gives: on every built-in
 //! map, at every step, each candidate's gain estimate equals the estimate of
-//! the step's knowledge map computed afresh.
+//! the step's knowledge map computed afresh, and so do the round's border, band
+//! and samples and each candidate's `R`, clearance and travel distance.
 
 use cpsplan::config::Planner;
 use cpsplan::sensing::GainEstimate;
@@ -39,6 +40,63 @@ fn kept_gain_field_equals_a_fresh_one_on_the_builtin_maps() {
             assert!(
                 checked > 50,
                 "{map:?} {planner:?}: only {checked} candidates"
+            );
+        }
+    }
+}
+
+/// The border, the band and the drivable cells kept across scans
+/// ([`cpsplan::parent::Frontier`], [`cpsplan::grid::Drivable`]): at every step of
+/// episodes on the built-in maps, alone and with the default team, the round's
+/// border and band sizes, its samples and every candidate's `R`, clearance and
+/// `L` are those of a border, band, traversability and travel sweep computed
+/// afresh from the step's knowledge map.
+#[test]
+fn kept_border_band_and_drivable_cells_equal_fresh_ones_on_the_builtin_maps() {
+    use cpsplan::grid::travel::sweep;
+    use cpsplan::grid::{Traversability, UNREACHED};
+    use cpsplan::parent::Frontier;
+    for map in BuiltinMap::ALL {
+        for children in [0, 2] {
+            let truth = map.generate(0);
+            let mut config = Config::default();
+            config.children.count = children;
+            config.mission.max_scans = 40;
+            let mut checked = 0usize;
+            run_episode_with(&truth, map.default_start(), &config, |step, knowledge| {
+                let g = *knowledge.geometry();
+                let frontier = Frontier::new(knowledge, &config.parent);
+                let plan = &step.plan;
+                let at = format!("{map:?} children {children} scan {}", step.scan);
+                assert_eq!(plan.border_cells, frontier.significant().len(), "{at}");
+                if plan.band_cells > 0 {
+                    assert_eq!(plan.band_cells, frontier.band().len(), "{at}");
+                }
+                for p in &plan.samples {
+                    let cell = g.world_to_cell(*p).expect("a sample on the grid");
+                    assert!(
+                        frontier.band().binary_search(&g.index(cell)).is_ok(),
+                        "{at}: sample {p:?} off the band"
+                    );
+                }
+                let trav = Traversability::new(knowledge, config.robot.radius, step.cell);
+                let field = sweep(&g, &trav.passable, &[g.index(step.cell)], UNREACHED);
+                for c in &plan.candidates {
+                    let i = g.index(c.cell);
+                    let reachable = trav.traversable[i] && field.reached(i);
+                    assert_eq!(c.r == 1, reachable, "{at}: R of {:?}", c.cell);
+                    if reachable {
+                        let clearance = (trav.clearance_at(i) as f64).min(config.scanner.range);
+                        assert_eq!(c.clearance_m, clearance, "{at}: clearance of {:?}", c.cell);
+                        assert_eq!(c.l_m, field.metres(i), "{at}: L of {:?}", c.cell);
+                    }
+                    checked += 1;
+                }
+            })
+            .expect("the episode runs");
+            assert!(
+                checked > 40,
+                "{map:?} children {children}: only {checked} candidates"
             );
         }
     }
