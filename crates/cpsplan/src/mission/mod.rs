@@ -13,6 +13,11 @@
 //! along the Voronoi edges ([`crate::motion`]); without children the parent drives
 //! its shortest drivable path alone.
 //!
+//! An episode keeps what a scan changes only locally up to date scan by scan
+//! instead of computing it again over the whole map each round (the gain
+//! estimate's field, the border and band, the parent's drivable cells:
+//! [`crate::parent::Kept`]); [`plan_step`] computes them afresh.
+//!
 //! - `episode`: [`run_episode`] and its records.
 //! - `step`: [`plan_step`].
 //! - `team`: the CPS part of a step ([`Groundwork`], [`execute_move`]).
