@@ -36,3 +36,24 @@ pub(crate) fn u_corridor() -> OccupancyGrid {
     k.fill_rect(95, 5, 115, 115, CellState::Free);
     k
 }
+
+/// The three cell states, indexed by random codes.
+pub(crate) const STATES: [CellState; 3] =
+    [CellState::Unknown, CellState::Free, CellState::Occupied];
+
+/// Paints `state` over the `rw × rh` cells from `(x, y)` (both taken modulo the
+/// grid's size, the rectangle clipped to it), and returns the painted cells: the
+/// changes to tell a kept state of.
+pub(crate) fn paint(
+    knowledge: &mut OccupancyGrid,
+    (x, y, rw, rh): (usize, usize, usize, usize),
+    state: CellState,
+) -> Vec<usize> {
+    let (w, h) = (knowledge.width(), knowledge.height());
+    let (x, y) = (x % w, y % h);
+    let (x1, y1) = ((x + rw).min(w), (y + rh).min(h));
+    knowledge.fill_rect(x, y, x1, y1, state);
+    (y..y1)
+        .flat_map(|yy| (x..x1).map(move |xx| yy * w + xx))
+        .collect()
+}

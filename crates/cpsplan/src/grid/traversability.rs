@@ -85,6 +85,20 @@ impl Traversability {
         Drivable::new(knowledge, radius).for_robot(knowledge, robot)
     }
 
+    /// [`Traversability::new`], taken from `kept` when it is kept for robots of
+    /// `radius` metres.
+    pub fn kept_or_new(
+        kept: Option<&Drivable>,
+        knowledge: &OccupancyGrid,
+        radius: f64,
+        robot: Cell,
+    ) -> Self {
+        match kept {
+            Some(d) if d.radius() == radius => d.for_robot(knowledge, robot),
+            _ => Self::new(knowledge, radius, robot),
+        }
+    }
+
     /// The drivable cells of robots of `radius` metres with no escape region:
     /// `passable` equals `traversable`. For robots that only pass through the map
     /// another robot stands on (another robot's escape region is no way for them).
@@ -640,6 +654,7 @@ fn mark_escape_region(
 mod tests {
     use super::*;
     use crate::geom::Point;
+    use crate::grid::fixtures::{paint, STATES};
     use crate::grid::GridGeometry;
 
     #[test]
@@ -799,8 +814,6 @@ mod tests {
         );
     }
 
-    const STATES: [CellState; 3] = [CellState::Unknown, CellState::Free, CellState::Occupied];
-
     proptest::proptest! {
         #![proptest_config(proptest::prelude::ProptestConfig { cases: 96, ..Default::default() })]
 
@@ -860,10 +873,7 @@ mod tests {
             let mut knowledge = OccupancyGrid::from_cells(g, cells).unwrap();
             let mut kept = Drivable::new(&knowledge, radius);
             for &(x, y, rw, rh, s) in &edits {
-                let (x, y) = (x % w, y % h);
-                let (x1, y1) = ((x + rw).min(w), (y + rh).min(h));
-                knowledge.fill_rect(x, y, x1, y1, STATES[s]);
-                let changed: Vec<usize> = (y..y1).flat_map(|yy| (x..x1).map(move |xx| yy * w + xx)).collect();
+                let changed = paint(&mut knowledge, (x, y, rw, rh), STATES[s]);
                 kept.update(&knowledge, &changed);
                 assert_fresh(&kept, &knowledge);
             }

@@ -45,10 +45,7 @@ impl Groundwork {
         kept: Option<&Drivable>,
     ) -> Self {
         let same = parent_radius == params.child_radius;
-        let for_robot = |radius: f64| match kept {
-            Some(d) if d.radius() == radius => d.for_robot(knowledge, parent),
-            _ => Traversability::new(knowledge, radius, parent),
-        };
+        let for_robot = |radius: f64| Traversability::kept_or_new(kept, knowledge, radius, parent);
         let ((child_terrain, children), parent_gvd) = rayon::join(
             || {
                 if same {

@@ -11,13 +11,19 @@ use crate::grid::{CellState, DistanceField, OccupancyGrid};
 /// nearest border cell is at most `width` metres, in index order. The search
 /// touches only the band and the cells beside it, not the whole map.
 pub fn band(knowledge: &OccupancyGrid, border: &[usize], width: f64) -> Vec<usize> {
-    let g = knowledge.geometry();
+    let cost = DistanceField::cost_of(width, knowledge.resolution());
+    band_within(knowledge, border, cost)
+}
+
+/// The known-Free cells within the travel cost `cost` through known-Free space of
+/// the cells `sources`, in index order: [`band()`] in the sweep's cost units.
+pub(super) fn band_within(knowledge: &OccupancyGrid, sources: &[usize], cost: u32) -> Vec<usize> {
     reached_within(
-        g,
+        knowledge.geometry(),
         knowledge.cells(),
         |c| c == CellState::Free,
-        border,
-        DistanceField::cost_of(width, g.resolution),
+        sources,
+        cost,
     )
 }
 

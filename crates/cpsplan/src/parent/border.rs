@@ -72,7 +72,6 @@ pub fn significant_border(
     if min_cells <= 1 || border.is_empty() {
         return border.to_vec();
     }
-    let (w, h) = (geometry.width as i64, geometry.height as i64);
     // 0: not border, 1: border not yet grouped, 2: grouped.
     let mut mark = vec![0u8; geometry.len()];
     for &b in border {
@@ -85,33 +84,53 @@ pub fn significant_border(
             continue;
         }
         mark[b] = 2;
-        group.clear();
-        group.push(b);
-        let mut next = 0;
-        while next < group.len() {
-            let i = group[next];
-            next += 1;
-            let (x, y) = ((i as i64) % w, (i as i64) / w);
-            for dy in -1..=1 {
-                for dx in -1..=1 {
-                    let (nx, ny) = (x + dx, y + dy);
-                    if nx < 0 || ny < 0 || nx >= w || ny >= h {
-                        continue;
-                    }
-                    let j = (ny * w + nx) as usize;
-                    if mark[j] == 1 {
-                        mark[j] = 2;
-                        group.push(j);
-                    }
-                }
+        flood_group(geometry, b, &mut group, |j| {
+            let take = mark[j] == 1;
+            if take {
+                mark[j] = 2;
             }
-        }
-        if group.len() >= min_cells {
+            take
+        });
+        if is_significant(group.len(), min_cells) {
             keep.extend_from_slice(&group);
         }
     }
     keep.sort_unstable();
     keep
+}
+
+/// Whether a group of `cells` border cells is kept by [`significant_border`].
+pub(super) fn is_significant(cells: usize, min_cells: usize) -> bool {
+    min_cells <= 1 || cells >= min_cells
+}
+
+/// The 8-connected group of `start` into `group` (`start` first): every cell
+/// reached from it for which `take(cell)` is true. `take` marks what it takes,
+/// so that no cell is taken twice; `start` is taken without asking, and the
+/// caller marks it first.
+pub(super) fn flood_group(
+    geometry: &GridGeometry,
+    start: usize,
+    group: &mut Vec<usize>,
+    mut take: impl FnMut(usize) -> bool,
+) {
+    let (w, h) = (geometry.width, geometry.height);
+    group.clear();
+    group.push(start);
+    let mut next = 0;
+    while next < group.len() {
+        let i = group[next];
+        next += 1;
+        let (x, y) = (i % w, i / w);
+        for ny in y.saturating_sub(1)..=(y + 1).min(h - 1) {
+            for nx in x.saturating_sub(1)..=(x + 1).min(w - 1) {
+                let j = ny * w + nx;
+                if take(j) {
+                    group.push(j);
+                }
+            }
+        }
+    }
 }
 
 #[cfg(test)]
@@ -165,7 +184,60 @@ mod tests {
         out
     }
 
+    /// The significant border by the rule: border cells whose 8-connected group
+    /// (found cell by cell from a seen-set) has at least `min_cells` cells.
+    fn reference_significant(g: &GridGeometry, border: &[usize], min_cells: usize) -> Vec<usize> {
+        let (w, h) = (g.width as i64, g.height as i64);
+        let is_border: std::collections::HashSet<usize> = border.iter().copied().collect();
+        let mut seen = std::collections::HashSet::new();
+        let mut keep = Vec::new();
+        for &b in border {
+            if !seen.insert(b) {
+                continue;
+            }
+            let mut group = vec![b];
+            let mut stack = vec![b];
+            while let Some(i) = stack.pop() {
+                let (x, y) = ((i as i64) % w, (i as i64) / w);
+                for (dx, dy) in (-1..=1).flat_map(|dx| (-1..=1).map(move |dy| (dx, dy))) {
+                    let (nx, ny) = (x + dx, y + dy);
+                    if nx < 0 || ny < 0 || nx >= w || ny >= h {
+                        continue;
+                    }
+                    let j = (ny * w + nx) as usize;
+                    if is_border.contains(&j) && seen.insert(j) {
+                        group.push(j);
+                        stack.push(j);
+                    }
+                }
+            }
+            if group.len() >= min_cells {
+                keep.extend(group);
+            }
+        }
+        keep.sort_unstable();
+        keep
+    }
+
     proptest::proptest! {
+        #[test]
+        fn significant_border_keeps_the_groups_of_the_rule(
+            w in 1usize..25,
+            h in 1usize..25,
+            bits in proptest::collection::vec(0u8..3, 625),
+            min_cells in 0usize..6,
+        ) {
+            let g = GridGeometry::new(w, h, 0.1, Point::default());
+            let states = [CellState::Unknown, CellState::Free, CellState::Occupied];
+            let cells = (0..g.len()).map(|i| states[bits[i] as usize]).collect();
+            let k = OccupancyGrid::from_cells(g, cells).unwrap();
+            let border = border_cells(&k);
+            proptest::prop_assert_eq!(
+                significant_border(&g, &border, min_cells),
+                reference_significant(&g, &border, min_cells)
+            );
+        }
+
         #[test]
         fn border_matches_the_cell_by_cell_rule(
             w in 1usize..25,

@@ -4,7 +4,7 @@
 //!
 //! In: the knowledge map and the cells a scan changed. Out: the same border,
 //! significant border and band as [`border_cells`], [`significant_border`] and
-//! [`band()`] on the whole map (a property test compares them after every scan).
+//! [`band()`](super::band()) on the whole map (a property test compares them after every scan).
 //!
 //! Why a window suffices, with `W` the bounding box of the changed cells and `r`
 //! the band's width in whole cells (a path of at most that travel takes at most
@@ -20,12 +20,11 @@
 //!   border cells within `2r` of those.
 
 use crate::config::ParentConfig;
-use crate::grid::travel::reached_within;
 use crate::grid::window::{merge_changes, Spans, Window};
-use crate::grid::{CellState, DistanceField, GridGeometry, OccupancyGrid};
+use crate::grid::{DistanceField, GridGeometry, OccupancyGrid};
 
-use super::band::band;
-use super::border::{border_cells, border_in, significant_border};
+use super::band::band_within;
+use super::border::{border_cells, border_in, flood_group, is_significant, significant_border};
 
 /// Cell flag: a border cell.
 const BORDER: u8 = 1;
@@ -57,7 +56,8 @@ impl Frontier {
         let g = *knowledge.geometry();
         let border = border_cells(knowledge);
         let significant = significant_border(&g, &border, config.min_frontier_cells);
-        let band = band(knowledge, &significant, config.band_width);
+        let band_cost = DistanceField::cost_of(config.band_width, g.resolution);
+        let band = band_within(knowledge, &significant, band_cost);
         let mut flags = vec![0u8; g.len()];
         for &i in &border {
             flags[i] |= BORDER;
@@ -65,7 +65,6 @@ impl Frontier {
         for &i in &significant {
             flags[i] |= SIGNIFICANT;
         }
-        let band_cost = DistanceField::cost_of(config.band_width, g.resolution);
         Self {
             geometry: g,
             min_cells: config.min_frontier_cells,
@@ -90,7 +89,7 @@ impl Frontier {
         &self.significant
     }
 
-    /// The band around the significant border, in index order ([`band()`]).
+    /// The band around the significant border, in index order ([`band()`](super::band())).
     pub fn band(&self) -> &[usize] {
         &self.band
     }
@@ -129,20 +128,22 @@ impl Frontier {
             }
         }
         let touching = changes.grow(2, &g);
-        let mut dirty = vec![changes.grow(2, &g)];
+        let mut dirty = vec![touching];
         let starts: Vec<usize> = Spans::of(&[touching], g.width)
             .select(&self.border)
             .collect();
         let mut flooded = Vec::new();
         let mut group = Vec::new();
+        let mut far = Vec::new();
         for s in starts {
             if self.flags[s] & FLOODED != 0 {
                 continue;
             }
             self.flood(s, &mut group);
             flooded.extend_from_slice(&group);
-            let keep = self.min_cells <= 1 || group.len() >= self.min_cells;
-            let mut flipped: Option<Window> = None;
+            let keep = is_significant(group.len(), self.min_cells);
+            // The cells whose significance flips outside the window grown by two.
+            far.clear();
             for &i in &group {
                 let was = self.flags[i] & SIGNIFICANT != 0;
                 if was == keep {
@@ -154,26 +155,11 @@ impl Frontier {
                 } else {
                     removed.push(i);
                 }
-                let (x, y) = (i % g.width, i / g.width);
-                if !touching.holds(x, y) {
-                    let cell = Window {
-                        x0: x,
-                        y0: y,
-                        x1: x,
-                        y1: y,
-                    };
-                    flipped = Some(match flipped {
-                        None => cell,
-                        Some(b) => Window {
-                            x0: b.x0.min(x),
-                            y0: b.y0.min(y),
-                            x1: b.x1.max(x),
-                            y1: b.y1.max(y),
-                        },
-                    });
+                if !touching.holds(i % g.width, i / g.width) {
+                    far.push(i);
                 }
             }
-            dirty.extend(flipped);
+            dirty.extend(Window::bounding(&g, &far));
         }
         for &i in &flooded {
             self.flags[i] &= !FLOODED;
@@ -192,13 +178,7 @@ impl Frontier {
         let sources: Vec<usize> = Spans::of(&sourced, g.width)
             .select(&self.significant)
             .collect();
-        let reached = reached_within(
-            &g,
-            knowledge.cells(),
-            |c| c == CellState::Free,
-            &sources,
-            self.band_cost,
-        );
+        let reached = band_within(knowledge, &sources, self.band_cost);
         let fresh: Vec<usize> = affected.select(&reached).collect();
         affected.replace(&self.band, &fresh, &mut self.spare);
         std::mem::swap(&mut self.band, &mut self.spare);
@@ -207,25 +187,15 @@ impl Frontier {
     /// Floods the 8-connected group of border cells of `start` into `group`,
     /// marking its cells [`FLOODED`].
     fn flood(&mut self, start: usize, group: &mut Vec<usize>) {
-        let (w, h) = (self.geometry.width, self.geometry.height);
-        group.clear();
-        group.push(start);
-        self.flags[start] |= FLOODED;
-        let mut next = 0;
-        while next < group.len() {
-            let i = group[next];
-            next += 1;
-            let (x, y) = (i % w, i / w);
-            for ny in y.saturating_sub(1)..=(y + 1).min(h - 1) {
-                for nx in x.saturating_sub(1)..=(x + 1).min(w - 1) {
-                    let j = ny * w + nx;
-                    if self.flags[j] & (BORDER | FLOODED) == BORDER {
-                        self.flags[j] |= FLOODED;
-                        group.push(j);
-                    }
-                }
+        let flags = &mut self.flags;
+        flags[start] |= FLOODED;
+        flood_group(&self.geometry, start, group, |j| {
+            let take = flags[j] & (BORDER | FLOODED) == BORDER;
+            if take {
+                flags[j] |= FLOODED;
             }
-        }
+            take
+        });
     }
 }
 
@@ -233,6 +203,8 @@ impl Frontier {
 mod tests {
     use super::*;
     use crate::geom::{Cell, Point};
+    use crate::grid::fixtures::{paint, STATES};
+    use crate::grid::CellState;
     use crate::sensing::scan;
     use proptest::prelude::*;
 
@@ -247,8 +219,6 @@ mod tests {
         assert_eq!(state.band(), fresh.band(), "band");
         assert_eq!(state.flags, fresh.flags, "flags");
     }
-
-    const STATES: [CellState; 3] = [CellState::Unknown, CellState::Free, CellState::Occupied];
 
     proptest! {
         #![proptest_config(ProptestConfig { cases: 64, ..ProptestConfig::default() })]
@@ -298,10 +268,7 @@ mod tests {
             let config = ParentConfig { min_frontier_cells: min_cells, band_width, ..ParentConfig::default() };
             let mut state = Frontier::new(&knowledge, &config);
             for &(x, y, rw, rh, s) in &edits {
-                let (x, y) = (x % w, y % h);
-                let (x1, y1) = ((x + rw).min(w), (y + rh).min(h));
-                knowledge.fill_rect(x, y, x1, y1, STATES[s]);
-                let changed: Vec<usize> = (y..y1).flat_map(|yy| (x..x1).map(move |xx| yy * w + xx)).collect();
+                let changed = paint(&mut knowledge, (x, y, rw, rh), STATES[s]);
                 state.update(&knowledge, &changed);
                 assert_fresh(&state, &knowledge, &config);
             }

@@ -149,11 +149,9 @@ pub fn plan_parent_with_field(
     let ((trav, field, gain), (frontier, stages)) = rayon::join(
         || {
             let (trav, gain) = rayon::join(
-                || match kept {
-                    Some(k) if k.drivable.radius() == config.robot.radius => {
-                        k.drivable.for_robot(knowledge, parent)
-                    }
-                    _ => Traversability::new(knowledge, config.robot.radius, parent),
+                || {
+                    let drivable = kept.map(|k| k.drivable);
+                    Traversability::kept_or_new(drivable, knowledge, config.robot.radius, parent)
                 },
                 || match kept {
                     Some(k) => GainEstimate::from_field(k.near, knowledge, config),
