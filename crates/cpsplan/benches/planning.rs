@@ -289,7 +289,16 @@ fn team(c: &mut Criterion) {
             continue;
         }
         group.bench_function("groundwork", |b| {
-            b.iter(|| Groundwork::new(black_box(k), parent, config.robot.radius, &params, None))
+            b.iter(|| {
+                Groundwork::new(
+                    black_box(k),
+                    parent,
+                    config.robot.radius,
+                    &params,
+                    None,
+                    None,
+                )
+            })
         });
         let trav = Traversability::new(k, config.robot.radius, parent);
         group.bench_function("gvd", |b| b.iter(|| gvd(black_box(k), &trav)));

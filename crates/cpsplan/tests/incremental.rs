@@ -2,7 +2,8 @@
 //! planner exactly what a from-scratch computation gives: on every built-in
 //! map, at every step, each candidate's gain estimate equals the estimate of
 //! the step's knowledge map computed afresh, and so do the round's border, band
-//! and samples and each candidate's `R`, clearance and travel distance.
+//! and samples and each candidate's `R`, clearance and travel distance, and the
+//! Voronoi diagram the children drive along.
 
 use cpsplan::config::Planner;
 use cpsplan::sensing::GainEstimate;
@@ -99,5 +100,40 @@ fn kept_border_band_and_drivable_cells_equal_fresh_ones_on_the_builtin_maps() {
                 "{map:?} children {children}: only {checked} candidates"
             );
         }
+    }
+}
+
+/// The GVD's obstacle side kept across scans ([`cpsplan::motion::VoronoiField`]):
+/// at every step of team episodes on the built-in maps, the diagram it gives for
+/// the robots' drivable cells equals the diagram computed afresh from the step's
+/// knowledge map.
+#[test]
+fn kept_voronoi_field_gives_the_fresh_diagram_on_the_builtin_maps() {
+    use cpsplan::grid::{CellState, OccupancyGrid, Traversability};
+    use cpsplan::motion::{gvd, VoronoiField};
+    for map in BuiltinMap::ALL {
+        let truth = map.generate(0);
+        let mut config = Config::default();
+        config.mission.max_scans = 30;
+        let mut before = OccupancyGrid::filled(*truth.geometry(), CellState::Unknown);
+        let mut kept = VoronoiField::new(&before);
+        let mut checked = 0usize;
+        run_episode_with(&truth, map.default_start(), &config, |step, knowledge| {
+            let changed: Vec<usize> = (0..knowledge.cells().len())
+                .filter(|&i| knowledge.cells()[i] != before.cells()[i])
+                .collect();
+            kept.update(knowledge, &changed);
+            before = knowledge.clone();
+            let trav = Traversability::new(knowledge, config.children.radius, step.cell);
+            let (a, b) = (kept.diagram(knowledge, &trav), gvd(knowledge, &trav));
+            let at = format!("{map:?} scan {}", step.scan);
+            assert!(a.count() > 0, "{at}: an empty diagram");
+            assert_eq!(a.skeleton, b.skeleton, "{at}: skeleton");
+            assert_eq!(a.clearance, b.clearance, "{at}: clearance");
+            assert_eq!(a.edge_component, b.edge_component, "{at}: edge components");
+            checked += 1;
+        })
+        .expect("the episode runs");
+        assert!(checked > 5, "{map:?}: only {checked} steps");
     }
 }

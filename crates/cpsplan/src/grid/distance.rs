@@ -214,32 +214,10 @@ pub(crate) fn feature_transform_into(
 ) {
     let (w, h) = (width, height);
     let n = w * h;
-    // Column pass: the row of the nearest obstacle in the same column.
     let near = &mut out.near;
     near.clear();
     near.resize(n, NONE);
-    for y in 0..h {
-        for x in 0..w {
-            let i = y * w + x;
-            near[i] = if obstacle[i] {
-                y as u32
-            } else if y > 0 {
-                near[i - w]
-            } else {
-                NONE
-            };
-        }
-    }
-    for y in (0..h.saturating_sub(1)).rev() {
-        for x in 0..w {
-            let i = y * w + x;
-            let up = near[i + w];
-            if near[i] == NONE || up.abs_diff(y as u32) < near[i].abs_diff(y as u32) {
-                near[i] = up;
-            }
-        }
-    }
-    // Row pass.
+    nearest_rows(w, h, obstacle, 0, w, near);
     let near = &out.near;
     let (feature, d2) = (&mut out.feature, &mut out.d2);
     feature.clear();
@@ -251,23 +229,135 @@ pub(crate) fn feature_transform_into(
         .zip(d2.par_chunks_mut(w))
         .enumerate()
         .for_each_init(
-            || (vec![0u32; w], vec![0usize; w], vec![Breakpoint::MIN; w + 1]),
-            |(g, v, z), (y, (feat_row, d2_row))| {
-                let near_row = &near[y * w..][..w];
-                for (gx, &r) in g.iter_mut().zip(near_row) {
-                    *gx = if r == NONE {
-                        NONE
-                    } else {
-                        r.abs_diff(y as u32)
-                    };
-                }
-                lower_envelope(g, v, z, |q, p| {
-                    let dx = q.abs_diff(p) as u32;
-                    feat_row[q] = (p as u32, near_row[p]);
-                    d2_row[q] = dx * dx + g[p] * g[p];
-                });
+            || RowBuffers::new(w),
+            |buffers, (y, (feat_row, d2_row))| {
+                row_features(y, &near[y * w..][..w], buffers, feat_row, d2_row)
             },
         );
+}
+
+/// The column pass over the columns `x0..x0 + cw` of a `w × h` window: per cell
+/// the row of the nearest obstacle cell in its column (ties: the lower row), into
+/// `out`, a `cw × h` row-major buffer.
+fn nearest_rows(w: usize, h: usize, obstacle: &[bool], x0: usize, cw: usize, out: &mut [u32]) {
+    for y in 0..h {
+        for x in 0..cw {
+            let (i, o) = (y * w + x0 + x, y * cw + x);
+            out[o] = if obstacle[i] {
+                y as u32
+            } else if y > 0 {
+                out[o - cw]
+            } else {
+                NONE
+            };
+        }
+    }
+    for y in (0..h.saturating_sub(1)).rev() {
+        for x in 0..cw {
+            let o = y * cw + x;
+            let up = out[o + cw];
+            if out[o] == NONE || up.abs_diff(y as u32) < out[o].abs_diff(y as u32) {
+                out[o] = up;
+            }
+        }
+    }
+}
+
+/// Working buffers of one row of the row pass.
+struct RowBuffers {
+    g: Vec<u32>,
+    v: Vec<usize>,
+    z: Vec<Breakpoint>,
+}
+
+impl RowBuffers {
+    fn new(w: usize) -> Self {
+        Self {
+            g: vec![0; w],
+            v: vec![0; w],
+            z: vec![Breakpoint::MIN; w + 1],
+        }
+    }
+}
+
+/// The row pass of row `y`: from the column pass's rows `near_row`, every cell's
+/// nearest obstacle cell and squared distance.
+fn row_features(
+    y: usize,
+    near_row: &[u32],
+    b: &mut RowBuffers,
+    feat_row: &mut [(u32, u32)],
+    d2_row: &mut [u32],
+) {
+    let RowBuffers { g, v, z } = b;
+    for (gx, &r) in g.iter_mut().zip(near_row) {
+        *gx = if r == NONE {
+            NONE
+        } else {
+            r.abs_diff(y as u32)
+        };
+    }
+    lower_envelope(g, v, z, |q, p| {
+        let dx = q.abs_diff(p) as u32;
+        feat_row[q] = (p as u32, near_row[p]);
+        d2_row[q] = dx * dx + g[p] * g[p];
+    });
+}
+
+impl FeatureBuffers {
+    /// Brings the transform of a `width × height` window (computed by
+    /// [`feature_transform_into`]) up to date after `obstacle` changed only in the
+    /// columns `columns`: the column pass is redone in those columns, and the row
+    /// pass in the rows where it changed. Appends to `changes` every row whose
+    /// features changed, with the first and last column that did, `(row, x0,
+    /// x1)`, rows in increasing order.
+    pub fn update(
+        &mut self,
+        width: usize,
+        height: usize,
+        obstacle: &[bool],
+        columns: std::ops::RangeInclusive<usize>,
+        changes: &mut Vec<(usize, usize, usize)>,
+    ) {
+        let (w, h) = (width, height);
+        let (x0, x1) = (*columns.start(), (*columns.end()).min(w.saturating_sub(1)));
+        if x0 > x1 || h == 0 {
+            return;
+        }
+        let cw = x1 - x0 + 1;
+        let mut fresh = vec![NONE; cw * h];
+        nearest_rows(w, h, obstacle, x0, cw, &mut fresh);
+        let mut rows = vec![false; h];
+        for (y, new) in fresh.chunks_exact(cw).enumerate() {
+            let old = &mut self.near[y * w + x0..][..cw];
+            if old != new {
+                old.copy_from_slice(new);
+                rows[y] = true;
+            }
+        }
+        let near = &self.near;
+        let found: Vec<(usize, usize, usize)> = self
+            .feature
+            .par_chunks_mut(w)
+            .zip(self.d2.par_chunks_mut(w))
+            .enumerate()
+            .filter(|(y, _)| rows[*y])
+            .map_init(
+                || (RowBuffers::new(w), vec![(0, 0); w], vec![0; w]),
+                |(buffers, feat, dist), (y, (feat_row, d2_row))| {
+                    row_features(y, &near[y * w..][..w], buffers, feat, dist);
+                    let differs = |x: &usize| feat[*x] != feat_row[*x] || dist[*x] != d2_row[*x];
+                    let first = (0..w).find(differs)?;
+                    let last = (0..w).rfind(differs)?;
+                    feat_row[first..=last].copy_from_slice(&feat[first..=last]);
+                    d2_row[first..=last].copy_from_slice(&dist[first..=last]);
+                    Some((y, first, last))
+                },
+            )
+            .flatten()
+            .collect();
+        changes.extend(found);
+    }
 }
 
 #[cfg(test)]

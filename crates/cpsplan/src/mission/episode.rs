@@ -15,6 +15,7 @@ use super::team;
 use crate::config::{number, Config, ConfigError, Planner};
 use crate::geom::{Cell, Point};
 use crate::grid::{CellState, Drivable, OccupancyGrid};
+use crate::motion::VoronoiField;
 use crate::parent::{Decision, Frontier, Kept, ParentPlan};
 use crate::sensing::{scan, NearField, ScanOutcome};
 use crate::world::CoverageTracker;
@@ -367,6 +368,7 @@ pub fn run_episode_with(
     let mut near = NearField::new(&knowledge, config);
     let mut frontier = Frontier::new(&knowledge, &config.parent);
     let mut drivable = Drivable::new(&knowledge, config.robot.radius);
+    let mut voronoi = (config.children.count > 0).then(|| VoronoiField::new(&knowledge));
     let mut changed: Vec<usize> = Vec::new();
     let stop_reason = loop {
         changed.clear();
@@ -375,7 +377,16 @@ pub fn run_episode_with(
             changed.push(i);
         });
         rayon::join(
-            || near.update(&knowledge, &changed),
+            || {
+                rayon::join(
+                    || near.update(&knowledge, &changed),
+                    || {
+                        if let Some(v) = voronoi.as_mut() {
+                            v.update(&knowledge, &changed);
+                        }
+                    },
+                )
+            },
             || {
                 rayon::join(
                     || frontier.update(&knowledge, &changed),
@@ -398,8 +409,14 @@ pub fn run_episode_with(
             frontier: &frontier,
             drivable: &drivable,
         };
-        let (mut plan, reach, groundwork) =
-            team::plan_round(&knowledge, here, &round, &mut rng, Some(kept));
+        let (mut plan, reach, groundwork) = team::plan_round(
+            &knowledge,
+            here,
+            &round,
+            &mut rng,
+            Some(kept),
+            voronoi.as_ref(),
+        );
         let at_limit = steps.len() + 1 >= config.mission.max_scans;
         // Diminishing returns: what the last scans added against the known area.
         let window = config.mission.stop_window;

@@ -148,7 +148,8 @@ pub fn plan_step(
         .collect::<Result<_, _>>()?;
     check_team(&g, here, &kids, children, &config)?;
     let mut rng = ChaCha8Rng::seed_from_u64(config.seed);
-    let (mut plan, reach, groundwork) = team::plan_round(knowledge, here, &config, &mut rng, None);
+    let (mut plan, reach, groundwork) =
+        team::plan_round(knowledge, here, &config, &mut rng, None, None);
     let mut tracker = Tracker::new(&config, g.cell_center(here));
     let mut movement = match plan.decision {
         Decision::Target { index } if kids.is_empty() => MoveRecord {

@@ -14,7 +14,7 @@ use crate::geom::{polyline_length, Cell};
 use crate::grid::path::to_world;
 use crate::grid::travel::sweep;
 use crate::grid::{Drivable, OccupancyGrid, Terrain, Traversability, UNREACHED};
-use crate::motion::{gvd, Roads};
+use crate::motion::{gvd, Roads, VoronoiField};
 use crate::parent::{
     fallback_candidate, plan_parent_with_field, reachable_frontier, relocated_candidate,
     relocations, Kept, ParentPlan, ParentReach, CPS_FALLBACK_TRIES, RELOCATE_CANDIDATES,
@@ -36,28 +36,33 @@ pub struct Groundwork {
 impl Groundwork {
     /// The groundwork for a parent of `parent_radius` metres at `parent` and
     /// children with `params`; `kept`: drivable cells the caller keeps up to date
-    /// for `knowledge`, used for the robots of their radius.
+    /// for `knowledge`, used for the robots of their radius; `voronoi`: the GVD's
+    /// obstacle side kept up to date for `knowledge`.
     pub fn new(
         knowledge: &OccupancyGrid,
         parent: Cell,
         parent_radius: f64,
         params: &CycleParams,
         kept: Option<&Drivable>,
+        voronoi: Option<&VoronoiField>,
     ) -> Self {
         let same = parent_radius == params.child_radius;
         let for_robot = |radius: f64| Traversability::kept_or_new(kept, knowledge, radius, parent);
+        let diagram = |trav: &Traversability| match voronoi {
+            Some(v) => v.diagram(knowledge, trav),
+            None => gvd(knowledge, trav),
+        };
         let ((child_terrain, children), parent_gvd) = rayon::join(
             || {
                 if same {
-                    let trav = for_robot(params.child_radius);
-                    (None, gvd(knowledge, &trav))
+                    (None, diagram(&for_robot(params.child_radius)))
                 } else {
                     let t = Terrain::without_escape(knowledge, params.child_radius);
-                    let d = gvd(knowledge, &t.trav);
+                    let d = diagram(&t.trav);
                     (Some(t), d)
                 }
             },
-            || (!same).then(|| gvd(knowledge, &for_robot(parent_radius))),
+            || (!same).then(|| diagram(&for_robot(parent_radius))),
         );
         Self {
             child_terrain,
@@ -71,13 +76,15 @@ impl Groundwork {
 
 /// The parent's planning round (Eq. 1) and, with children, the groundwork of the
 /// CPS planners computed alongside it; `kept`: what the caller keeps up to date
-/// for `knowledge` ([`plan_parent_with_field`]).
+/// for `knowledge` ([`plan_parent_with_field`]), `voronoi`: the GVD's obstacle
+/// side likewise ([`Groundwork::new`]).
 pub fn plan_round(
     knowledge: &OccupancyGrid,
     here: Cell,
     config: &Config,
     rng: &mut ChaCha8Rng,
     kept: Option<Kept<'_>>,
+    voronoi: Option<&VoronoiField>,
 ) -> (ParentPlan, ParentReach, Option<Groundwork>) {
     let ((plan, reach), groundwork) = rayon::join(
         || plan_parent_with_field(knowledge, here, config, rng, kept),
@@ -89,6 +96,7 @@ pub fn plan_round(
                     config.robot.radius,
                     &CycleParams::from_config(config),
                     kept.map(|k| k.drivable),
+                    voronoi,
                 )
             })
         },
@@ -182,8 +190,9 @@ pub fn execute_move(
     let Groundwork {
         child_terrain,
         roads,
-    } = groundwork
-        .unwrap_or_else(|| Groundwork::new(knowledge, here, config.robot.radius, &params, None));
+    } = groundwork.unwrap_or_else(|| {
+        Groundwork::new(knowledge, here, config.robot.radius, &params, None, None)
+    });
     let ParentReach { trav, field, gain } = reach;
     let parent_terrain = Terrain::from_sweep(trav, &field);
     // The random choices of the step's placements follow the seed and the state.

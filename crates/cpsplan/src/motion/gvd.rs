@@ -41,9 +41,11 @@
 
 use rayon::prelude::*;
 
+use std::collections::HashMap;
 use std::sync::Mutex;
 
 use crate::grid::distance::{feature_transform_into, FeatureBuffers};
+use crate::grid::window::Window;
 use crate::grid::{CellState, GridGeometry, OccupancyGrid, Traversability};
 
 /// Smallest angle, degrees, between the directions to the nearest obstacle cells of
@@ -77,21 +79,126 @@ impl Gvd {
     }
 }
 
-/// Working buffers of [`gvd`], kept between diagrams so that the next one reuses
-/// their memory instead of faulting in fresh pages.
-#[derive(Default)]
-struct Scratch {
+/// The part of a diagram that does not depend on a robot's drivable cells, over a
+/// *frame* of grid cells plus a one-cell ring of obstacle cells (the padded
+/// window): the obstacles, their feature transform and components, and the
+/// straddling pairs (steps 1–3 of the module documentation).
+#[derive(Debug, Default)]
+struct Field {
+    /// First column and row of the frame on the grid.
+    x0: usize,
+    y0: usize,
+    /// Columns and rows of the frame.
+    bw: usize,
+    bh: usize,
     obstacle: Vec<bool>,
     features: FeatureBuffers,
     components: Components,
+    /// Per padded cell: whether it straddles an edge with its right neighbour,
+    /// and which of the two wins ([`PAIR_NONE`], [`PAIR_FIRST`], [`PAIR_SECOND`]).
     right: Vec<u8>,
+    /// The same with its upper neighbour.
     up: Vec<u8>,
+}
+
+impl Field {
+    /// Width of the padded window.
+    fn pw(&self) -> usize {
+        self.bw + 2
+    }
+
+    /// Computes everything afresh for the frame of `bw × bh` grid cells from
+    /// `(x0, y0)`.
+    fn compute(
+        &mut self,
+        knowledge: &OccupancyGrid,
+        (x0, y0, bw, bh): (usize, usize, usize, usize),
+    ) {
+        (self.x0, self.y0, self.bw, self.bh) = (x0, y0, bw, bh);
+        let (pw, ph) = (bw + 2, bh + 2);
+        let w = knowledge.geometry().width;
+        let k = knowledge.cells();
+        // Obstacles of the window: the ring and every non-Free cell.
+        let obstacle = &mut self.obstacle;
+        obstacle.clear();
+        obstacle.resize(pw * ph, true);
+        for y in 0..bh {
+            let row = &k[(y0 + y) * w + x0..][..bw];
+            let out = &mut obstacle[(y + 1) * pw + 1..][..bw];
+            for (o, &s) in out.iter_mut().zip(row) {
+                *o = s != CellState::Free;
+            }
+        }
+        feature_transform_into(pw, ph, &self.obstacle, &mut self.features);
+        self.components.label(pw, ph, &self.obstacle);
+        for pairs in [&mut self.right, &mut self.up] {
+            pairs.clear();
+            pairs.resize(pw * ph, PAIR_NONE);
+        }
+        let Self {
+            obstacle,
+            features,
+            components,
+            right,
+            up,
+            ..
+        } = self;
+        let tester = PairTest::new(pw, obstacle, features, &components.label);
+        right
+            .par_chunks_mut(pw)
+            .zip(up.par_chunks_mut(pw))
+            .enumerate()
+            .skip(1)
+            .take(bh)
+            .for_each(|(py, (right_row, up_row))| {
+                for px in 1..=bw {
+                    (right_row[px], up_row[px]) = tester.pairs(px, py);
+                }
+            });
+    }
+
+    /// The diagram restricted to the drivable cells `passable` of the grid
+    /// `g` (steps 4–5).
+    fn diagram(&self, g: &GridGeometry, passable: &[bool]) -> Gvd {
+        let (w, n) = (g.width, g.len());
+        let mut skeleton = vec![false; n];
+        let mut clearance = vec![0.0f32; n];
+        let (x0, y0, bw, bh, pw) = (self.x0, self.y0, self.bw, self.bh, self.pw());
+        let (right, up, d2) = (&self.right, &self.up, &self.features.d2);
+        skeleton[y0 * w..(y0 + bh) * w]
+            .par_chunks_mut(w)
+            .zip(clearance[y0 * w..(y0 + bh) * w].par_chunks_mut(w))
+            .enumerate()
+            .for_each(|(by, (row, clear_row))| {
+                let y = y0 + by;
+                let src = &d2[(by + 1) * pw + 1..][..bw];
+                for (c, &d) in clear_row[x0..x0 + bw].iter_mut().zip(src) {
+                    *c = (d as f64).sqrt() as f32;
+                }
+                for (bx, s) in row[x0..x0 + bw].iter_mut().enumerate() {
+                    if !passable[y * w + x0 + bx] {
+                        continue;
+                    }
+                    let i = (by + 1) * pw + bx + 1;
+                    *s = right[i] == PAIR_FIRST
+                        || right[i - 1] == PAIR_SECOND
+                        || up[i] == PAIR_FIRST
+                        || up[i - pw] == PAIR_SECOND;
+                }
+            });
+        let edge_component = edge_components(g, passable, &skeleton);
+        Gvd {
+            skeleton,
+            clearance,
+            edge_component,
+        }
+    }
 }
 
 /// The buffers kept for the next diagram: one set for the whole process (a
 /// diagram computed while another runs gets fresh buffers), until
 /// [`release_buffers`].
-static SCRATCH: Mutex<Option<Scratch>> = Mutex::new(None);
+static SCRATCH: Mutex<Option<Field>> = Mutex::new(None);
 
 /// Frees the buffers [`gvd`] keeps between diagrams (an episode calls it when it
 /// ends, so that they do not add to what comes after).
@@ -104,116 +211,240 @@ pub(crate) fn release_buffers() {
 /// The GVD of the non-Free cells of `knowledge` (and the grid's edge), restricted
 /// to the cells with `trav.passable`. See the module documentation for the method.
 pub fn gvd(knowledge: &OccupancyGrid, trav: &Traversability) -> Gvd {
+    let g = knowledge.geometry();
+    // Everything outside the bounding box of the Free cells is an obstacle, so the
+    // box plus a one-cell ring (the window) is all that matters.
+    let Some((x0, y0, x1, y1)) = knowledge.bounds_of(|c| c == CellState::Free) else {
+        return Gvd {
+            skeleton: vec![false; g.len()],
+            clearance: vec![0.0; g.len()],
+            edge_component: vec![NONE; g.len()],
+        };
+    };
     let kept = SCRATCH.lock().ok().and_then(|mut k| k.take());
-    let mut scratch = kept.unwrap_or_default();
-    let out = gvd_with(knowledge, trav, &mut scratch);
+    let mut field = kept.unwrap_or_default();
+    field.compute(knowledge, (x0, y0, x1 - x0 + 1, y1 - y0 + 1));
+    let out = field.diagram(g, &trav.passable);
     if let Ok(mut kept) = SCRATCH.lock() {
         let larger = kept
             .as_ref()
-            .is_none_or(|k| k.features.capacity() < scratch.features.capacity());
+            .is_none_or(|k| k.features.capacity() < field.features.capacity());
         if larger {
-            *kept = Some(scratch);
+            *kept = Some(field);
         }
     }
     out
 }
 
-/// [`gvd`] with the working buffers of `scratch`.
-fn gvd_with(knowledge: &OccupancyGrid, trav: &Traversability, scratch: &mut Scratch) -> Gvd {
-    let g = knowledge.geometry();
-    let (w, n) = (g.width, g.len());
-    let mut skeleton = vec![false; n];
-    let mut clearance = vec![0.0f32; n];
-    // Everything outside the bounding box of the Free cells is an obstacle, so the
-    // box plus a one-cell ring (the window) is all that matters.
-    let Some((x0, y0, x1, y1)) = knowledge.bounds_of(|c| c == CellState::Free) else {
-        return Gvd {
-            skeleton,
-            clearance,
-            edge_component: vec![NONE; n],
-        };
-    };
-    let (bw, bh) = (x1 - x0 + 1, y1 - y0 + 1);
-    let (pw, ph) = (bw + 2, bh + 2);
-    let k = knowledge.cells();
-    // Obstacles of the window: the ring and every non-Free cell.
-    let obstacle = &mut scratch.obstacle;
-    obstacle.clear();
-    obstacle.resize(pw * ph, true);
-    for y in 0..bh {
-        let row = &k[(y0 + y) * w + x0..][..bw];
-        let out = &mut obstacle[(y + 1) * pw + 1..][..bw];
-        for (o, &s) in out.iter_mut().zip(row) {
-            *o = s != CellState::Free;
+/// The GVD's obstacle side kept across scans: the feature transform, the
+/// components and the straddling pairs of the whole grid (steps 1–3), brought up
+/// to date where a scan changed the knowledge map, from which the diagram of any
+/// robot's drivable cells follows ([`Self::diagram`]). The frame is the whole
+/// grid, so that it never moves; outside the Free cells' bounding box every cell
+/// is an obstacle, and the result equals [`gvd`]'s.
+///
+/// [`Self::update`] redoes:
+/// - the obstacles in the bounding box `W` of the changed cells;
+/// - the column pass in `W`'s columns, the row pass in the rows where the column
+///   pass changed ([`FeatureBuffers::update`]);
+/// - the components, all of them (a removed cell can split a wall far away);
+///   then the pairs of the cells whose feature changed, and of every cell if the
+///   partition into components changed on the cells that stayed obstacles. It
+///   suffices to compare the partitions on those cells in `W` + 1: a path of
+///   obstacle cells that enters `W` does so through one of them.
+#[derive(Debug)]
+pub struct VoronoiField {
+    field: Field,
+    /// The component labels before the last update.
+    old_label: Vec<u32>,
+}
+
+impl VoronoiField {
+    /// The field of `knowledge` computed afresh.
+    pub fn new(knowledge: &OccupancyGrid) -> Self {
+        let g = knowledge.geometry();
+        let mut field = Field::default();
+        field.compute(knowledge, (0, 0, g.width, g.height));
+        Self {
+            field,
+            old_label: Vec::new(),
         }
     }
-    let obstacle = &scratch.obstacle;
-    feature_transform_into(pw, ph, obstacle, &mut scratch.features);
-    let (feature, d2) = (&scratch.features.feature, &scratch.features.d2);
-    let component = scratch.components.label(pw, ph, obstacle);
-    let cos_min = MIN_EDGE_ANGLE_DEG.to_radians().cos();
-    let cos2_min = cos_min * cos_min;
-    let passable = &trav.passable;
 
-    // Each straddling pair of 4-neighbours once: the pair of a window cell with
-    // its right neighbour and with its upper neighbour, and which of the two wins.
-    let (right, up) = (&mut scratch.right, &mut scratch.up);
-    for pairs in [&mut *right, &mut *up] {
-        pairs.clear();
-        pairs.resize(pw * ph, PAIR_NONE);
-    }
-    right
-        .par_chunks_mut(pw)
-        .zip(up.par_chunks_mut(pw))
-        .enumerate()
-        .skip(1)
-        .take(bh)
-        .for_each(|(py, (right_row, up_row))| {
-            for px in 1..=bw {
-                let p = Site::new(pw, px, py);
-                if obstacle[p.i] {
-                    continue;
-                }
-                for (q, out) in [
-                    (Site::new(pw, px + 1, py), &mut right_row[px]),
-                    (Site::new(pw, px, py + 1), &mut up_row[px]),
-                ] {
-                    if !obstacle[q.i] && straddles(pw, p, q, feature, d2, component, cos2_min) {
-                        *out = if wins(p, q, feature, d2) {
-                            PAIR_FIRST
-                        } else {
-                            PAIR_SECOND
-                        };
+    /// Brings the field up to date after the cells `changed` of `knowledge`
+    /// changed state (any other cell is as before).
+    pub fn update(&mut self, knowledge: &OccupancyGrid, changed: &[usize]) {
+        let g = knowledge.geometry();
+        let f = &mut self.field;
+        let (w, pw, ph) = (g.width, f.pw(), f.bh + 2);
+        let k = knowledge.cells();
+        // The cells that turned obstacle or stopped being one, in padded indices.
+        let pad = |i: usize| (i / w + 1) * pw + i % w + 1;
+        let mut flipped: Vec<usize> = changed
+            .iter()
+            .filter(|&&i| i < k.len() && f.obstacle[pad(i)] != (k[i] != CellState::Free))
+            .map(|&i| pad(i))
+            .collect();
+        flipped.sort_unstable();
+        flipped.dedup();
+        let padded = GridGeometry::new(pw, ph, 1.0, crate::geom::Point::default());
+        let Some(flips) = Window::bounding(&padded, &flipped) else {
+            return;
+        };
+        // The cells of `W` + 1 that were obstacles before.
+        let around = flips.grow(1, &padded);
+        let old: Vec<bool> = (around.y0..=around.y1)
+            .flat_map(|y| {
+                f.obstacle[y * pw + around.x0..=y * pw + around.x1]
+                    .iter()
+                    .copied()
+            })
+            .collect();
+        for &p in &flipped {
+            f.obstacle[p] = !f.obstacle[p];
+        }
+        let mut changes = Vec::new();
+        f.features
+            .update(pw, ph, &f.obstacle, flips.x0..=flips.x1, &mut changes);
+        std::mem::swap(&mut self.old_label, &mut f.components.label);
+        f.components.label(pw, ph, &f.obstacle);
+        let aw = around.x1 - around.x0 + 1;
+        let same = same_partition(&self.old_label, &f.components.label, around, pw, |p| {
+            let (x, y) = (p % pw - around.x0, p / pw - around.y0);
+            f.obstacle[p] && old[y * aw + x]
+        });
+        let Field {
+            obstacle,
+            features,
+            components,
+            right,
+            up,
+            bw,
+            bh,
+            ..
+        } = f;
+        let tester = PairTest::new(pw, obstacle, features, &components.label);
+        if same {
+            for &(py, a, b) in &changes {
+                for y in py.saturating_sub(1).max(1)..=py.min(*bh) {
+                    for x in a.saturating_sub(1).max(1)..=b.min(*bw) {
+                        (right[y * pw + x], up[y * pw + x]) = tester.pairs(x, y);
                     }
                 }
             }
-        });
-    skeleton[y0 * w..(y1 + 1) * w]
-        .par_chunks_mut(w)
-        .zip(clearance[y0 * w..(y1 + 1) * w].par_chunks_mut(w))
-        .enumerate()
-        .for_each(|(by, (row, clear_row))| {
-            let y = y0 + by;
-            let src = &d2[(by + 1) * pw + 1..][..bw];
-            for (c, &d) in clear_row[x0..=x1].iter_mut().zip(src) {
-                *c = (d as f64).sqrt() as f32;
+        } else {
+            right
+                .par_chunks_mut(pw)
+                .zip(up.par_chunks_mut(pw))
+                .enumerate()
+                .skip(1)
+                .take(*bh)
+                .for_each(|(py, (right_row, up_row))| {
+                    for px in 1..=*bw {
+                        (right_row[px], up_row[px]) = tester.pairs(px, py);
+                    }
+                });
+        }
+    }
+
+    /// The diagram for the drivable cells of `trav`: what [`gvd`] computes.
+    pub fn diagram(&self, knowledge: &OccupancyGrid, trav: &Traversability) -> Gvd {
+        self.field.diagram(knowledge.geometry(), &trav.passable)
+    }
+}
+
+/// Whether the labels `old` and `new` group the cells `keep` of `window` (padded
+/// indices of a window `pw` wide) alike.
+fn same_partition(
+    old: &[u32],
+    new: &[u32],
+    window: Window,
+    pw: usize,
+    keep: impl Fn(usize) -> bool,
+) -> bool {
+    let mut forward: HashMap<u32, u32> = HashMap::new();
+    let mut backward: HashMap<u32, u32> = HashMap::new();
+    let mut last = None;
+    for y in window.y0..=window.y1 {
+        for p in y * pw + window.x0..=y * pw + window.x1 {
+            if !keep(p) {
+                continue;
             }
-            for (bx, s) in row[x0..=x1].iter_mut().enumerate() {
-                if !passable[y * w + x0 + bx] {
-                    continue;
-                }
-                let i = (by + 1) * pw + bx + 1;
-                *s = right[i] == PAIR_FIRST
-                    || right[i - 1] == PAIR_SECOND
-                    || up[i] == PAIR_FIRST
-                    || up[i - pw] == PAIR_SECOND;
+            let pair = (old[p], new[p]);
+            // Neighbouring cells mostly share their labels.
+            if last == Some(pair) {
+                continue;
             }
-        });
-    let edge_component = edge_components(g, passable, &skeleton);
-    Gvd {
-        skeleton,
-        clearance,
-        edge_component,
+            last = Some(pair);
+            let (a, b) = pair;
+            if *forward.entry(a).or_insert(b) != b || *backward.entry(b).or_insert(a) != a {
+                return false;
+            }
+        }
+    }
+    true
+}
+
+/// The straddling-pair test of step 3 over a padded window.
+struct PairTest<'a> {
+    pw: usize,
+    obstacle: &'a [bool],
+    feature: &'a [(u32, u32)],
+    d2: &'a [u32],
+    component: &'a [u32],
+    cos2_min: f64,
+}
+
+impl<'a> PairTest<'a> {
+    fn new(
+        pw: usize,
+        obstacle: &'a [bool],
+        features: &'a FeatureBuffers,
+        component: &'a [u32],
+    ) -> Self {
+        let cos_min = MIN_EDGE_ANGLE_DEG.to_radians().cos();
+        Self {
+            pw,
+            obstacle,
+            feature: &features.feature,
+            d2: &features.d2,
+            component,
+            cos2_min: cos_min * cos_min,
+        }
+    }
+
+    /// The pairs of the window cell `(px, py)` (not on the ring) with its right
+    /// and with its upper neighbour.
+    #[inline]
+    fn pairs(&self, px: usize, py: usize) -> (u8, u8) {
+        let pw = self.pw;
+        let p = Site::new(pw, px, py);
+        if self.obstacle[p.i] {
+            return (PAIR_NONE, PAIR_NONE);
+        }
+        let pair = |q: Site| {
+            if self.obstacle[q.i]
+                || !straddles(
+                    pw,
+                    p,
+                    q,
+                    self.feature,
+                    self.d2,
+                    self.component,
+                    self.cos2_min,
+                )
+            {
+                PAIR_NONE
+            } else if wins(p, q, self.feature, self.d2) {
+                PAIR_FIRST
+            } else {
+                PAIR_SECOND
+            }
+        };
+        (
+            pair(Site::new(pw, px + 1, py)),
+            pair(Site::new(pw, px, py + 1)),
+        )
     }
 }
 
@@ -290,7 +521,7 @@ fn wins(p: Site, q: Site, feature: &[(u32, u32)], d2: &[u32]) -> bool {
 
 /// Labels of the 8-connected components of the obstacle cells, with the buffers
 /// kept between calls.
-#[derive(Default)]
+#[derive(Debug, Default)]
 struct Components {
     /// Runs of obstacle cells: (row, first column, last column), row by row.
     runs: Vec<(usize, usize, usize)>,
@@ -527,6 +758,93 @@ pub(super) mod tests {
                         prop_assert_eq!(label[i] == label[j], flood[i] == flood[j]);
                     }
                 }
+            }
+        }
+    }
+
+    /// The kept field equals one computed afresh, buffer by buffer (the
+    /// component labels up to renaming), and its diagram equals [`gvd`]'s.
+    fn assert_fresh(kept: &VoronoiField, knowledge: &OccupancyGrid, radius: f64, robot: Cell) {
+        let fresh = VoronoiField::new(knowledge);
+        let (a, b) = (&kept.field, &fresh.field);
+        assert_eq!(a.obstacle, b.obstacle, "obstacles");
+        assert_eq!(a.features.feature, b.features.feature, "features");
+        assert_eq!(a.features.d2, b.features.d2, "squared distances");
+        assert!(a.right == b.right && a.up == b.up, "straddling pairs");
+        let n = a.obstacle.len();
+        let ends: Vec<usize> = (0..n).filter(|&p| a.obstacle[p]).collect();
+        let window = Window {
+            x0: 0,
+            y0: 0,
+            x1: a.pw() - 1,
+            y1: a.bh + 1,
+        };
+        assert!(
+            same_partition(
+                &a.components.label,
+                &b.components.label,
+                window,
+                a.pw(),
+                |p| a.obstacle[p]
+            ),
+            "components ({} obstacle cells)",
+            ends.len()
+        );
+        let trav = Traversability::new(knowledge, radius, robot);
+        let (d, e) = (kept.diagram(knowledge, &trav), gvd(knowledge, &trav));
+        assert_eq!(d.skeleton, e.skeleton, "skeleton");
+        assert_eq!(d.clearance, e.clearance, "clearance");
+        assert_eq!(d.edge_component, e.edge_component, "edge components");
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig { cases: 48, ..ProptestConfig::default() })]
+
+        /// Scans of a random map from random stops: after every scan the kept
+        /// field and its diagram equal fresh ones.
+        #[test]
+        fn scans_keep_the_field_of_a_fresh_computation(
+            w in 4usize..70,
+            h in 4usize..70,
+            walls in proptest::collection::vec((0usize..70, 0usize..70, 1usize..14, 1usize..14), 0..12),
+            stops in proptest::collection::vec((0usize..70, 0usize..70), 1..8),
+            range in 3.0f64..40.0,
+            radius in proptest::sample::select(vec![0.0, 0.1, 0.25]),
+        ) {
+            let g = GridGeometry::new(w, h, RES, Point::default());
+            let mut truth = OccupancyGrid::filled(g, CellState::Free);
+            for &(x, y, rw, rh) in &walls {
+                let (x, y) = (x % w, y % h);
+                truth.fill_rect(x, y, (x + rw).min(w), (y + rh).min(h), CellState::Occupied);
+            }
+            let mut knowledge = OccupancyGrid::filled(g, CellState::Unknown);
+            let mut kept = VoronoiField::new(&knowledge);
+            for &(x, y) in &stops {
+                let at = Cell::new(x % w, y % h);
+                let mut changed = Vec::new();
+                crate::sensing::scan(&truth, &mut knowledge, at, range, |i| changed.push(i));
+                kept.update(&knowledge, &changed);
+                assert_fresh(&kept, &knowledge, radius, at);
+            }
+        }
+
+        /// Arbitrary changes, obstacles appearing as well as vanishing.
+        #[test]
+        fn any_changes_keep_the_field_of_a_fresh_computation(
+            w in 1usize..40,
+            h in 1usize..40,
+            start in proptest::collection::vec(0usize..3, 1600),
+            edits in proptest::collection::vec((0usize..40, 0usize..40, 1usize..15, 1usize..15, 0usize..3), 1..8),
+        ) {
+            let g = GridGeometry::new(w, h, RES, Point::default());
+            let cells = (0..g.len()).map(|i| crate::grid::fixtures::STATES[start[i]]).collect();
+            let mut knowledge = OccupancyGrid::from_cells(g, cells).unwrap();
+            let mut kept = VoronoiField::new(&knowledge);
+            for &(x, y, rw, rh, s) in &edits {
+                let state = crate::grid::fixtures::STATES[s];
+                let changed = crate::grid::fixtures::paint(&mut knowledge, (x, y, rw, rh), state);
+                kept.update(&knowledge, &changed);
+                assert_fresh(&kept, &knowledge, RADIUS, Cell::new(x % w, y % h));
             }
         }
     }

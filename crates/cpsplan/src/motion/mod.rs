@@ -6,6 +6,7 @@
 //! diagram ([`Gvd`]) and every robot's path ([`voronoi_path()`], [`Roads`]).
 //!
 //! - [`gvd()`]: the diagram.
+//! - [`VoronoiField`]: its obstacle side kept across scans.
 //! - [`voronoi_path()`]: one robot's path along it.
 //! - [`Roads`]: the diagrams of one step and the drives of a planned move.
 
@@ -14,6 +15,6 @@ mod roads;
 mod voronoi_path;
 
 pub(crate) use gvd::release_buffers;
-pub use gvd::{gvd, Gvd, MIN_EDGE_ANGLE_DEG};
+pub use gvd::{gvd, Gvd, VoronoiField, MIN_EDGE_ANGLE_DEG};
 pub use roads::{NoDrivablePath, Roads};
 pub use voronoi_path::voronoi_path;
