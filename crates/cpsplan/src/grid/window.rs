@@ -67,6 +67,11 @@ impl Window {
         self.x0 <= other.x0 && self.y0 <= other.y0 && self.x1 >= other.x1 && self.y1 >= other.y1
     }
 
+    /// Number of columns.
+    pub fn width(&self) -> usize {
+        self.x1 - self.x0 + 1
+    }
+
     /// Whether cell `(x, y)` lies in the window.
     pub fn holds(&self, x: usize, y: usize) -> bool {
         (self.x0..=self.x1).contains(&x) && (self.y0..=self.y1).contains(&y)

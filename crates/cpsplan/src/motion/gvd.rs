@@ -41,7 +41,6 @@
 
 use rayon::prelude::*;
 
-use std::collections::HashMap;
 use std::sync::Mutex;
 
 use crate::grid::distance::{feature_transform_into, FeatureBuffers};
@@ -158,19 +157,21 @@ impl Field {
     }
 
     /// The diagram restricted to the drivable cells `passable` of the grid
-    /// `g` (steps 4–5).
-    fn diagram(&self, g: &GridGeometry, passable: &[bool]) -> Gvd {
+    /// `g` (steps 4–5); `rows`: the frame's rows that hold a non-obstacle cell
+    /// (or more).
+    fn diagram(&self, g: &GridGeometry, passable: &[bool], rows: std::ops::Range<usize>) -> Gvd {
         let (w, n) = (g.width, g.len());
         let mut skeleton = vec![false; n];
         let mut clearance = vec![0.0f32; n];
-        let (x0, y0, bw, bh, pw) = (self.x0, self.y0, self.bw, self.bh, self.pw());
+        let (x0, bw, pw) = (self.x0, self.bw, self.pw());
+        let y0 = self.y0 + rows.start;
         let (right, up, d2) = (&self.right, &self.up, &self.features.d2);
-        skeleton[y0 * w..(y0 + bh) * w]
+        skeleton[y0 * w..(self.y0 + rows.end) * w]
             .par_chunks_mut(w)
-            .zip(clearance[y0 * w..(y0 + bh) * w].par_chunks_mut(w))
+            .zip(clearance[y0 * w..(self.y0 + rows.end) * w].par_chunks_mut(w))
             .enumerate()
-            .for_each(|(by, (row, clear_row))| {
-                let y = y0 + by;
+            .for_each(|(ry, (row, clear_row))| {
+                let (by, y) = (rows.start + ry, y0 + ry);
                 let src = &d2[(by + 1) * pw + 1..][..bw];
                 for (c, &d) in clear_row[x0..x0 + bw].iter_mut().zip(src) {
                     *c = (d as f64).sqrt() as f32;
@@ -224,7 +225,7 @@ pub fn gvd(knowledge: &OccupancyGrid, trav: &Traversability) -> Gvd {
     let kept = SCRATCH.lock().ok().and_then(|mut k| k.take());
     let mut field = kept.unwrap_or_default();
     field.compute(knowledge, (x0, y0, x1 - x0 + 1, y1 - y0 + 1));
-    let out = field.diagram(g, &trav.passable);
+    let out = field.diagram(g, &trav.passable, 0..field.bh);
     if let Ok(mut kept) = SCRATCH.lock() {
         let larger = kept
             .as_ref()
@@ -255,8 +256,8 @@ pub fn gvd(knowledge: &OccupancyGrid, trav: &Traversability) -> Gvd {
 #[derive(Debug)]
 pub struct VoronoiField {
     field: Field,
-    /// The component labels before the last update.
-    old_label: Vec<u32>,
+    /// Per padded row: the largest squared distance to an obstacle cell in it.
+    row_max: Vec<u32>,
 }
 
 impl VoronoiField {
@@ -265,10 +266,13 @@ impl VoronoiField {
         let g = knowledge.geometry();
         let mut field = Field::default();
         field.compute(knowledge, (0, 0, g.width, g.height));
-        Self {
-            field,
-            old_label: Vec::new(),
-        }
+        let row_max = field
+            .features
+            .d2
+            .chunks_exact(field.pw())
+            .map(|row| row.iter().copied().max().unwrap_or(0))
+            .collect();
+        Self { field, row_max }
     }
 
     /// Brings the field up to date after the cells `changed` of `knowledge`
@@ -291,8 +295,14 @@ impl VoronoiField {
         let Some(flips) = Window::bounding(&padded, &flipped) else {
             return;
         };
-        // The cells of `W` + 1 that were obstacles before.
+        // The cells of `W` + 1 that were obstacles before, and their components.
         let around = flips.grow(1, &padded);
+        let window_cells = |v: &[u32]| -> Vec<u32> {
+            (around.y0..=around.y1)
+                .flat_map(|y| v[y * pw + around.x0..=y * pw + around.x1].iter().copied())
+                .collect()
+        };
+        let old_label = window_cells(&f.components.label);
         let old: Vec<bool> = (around.y0..=around.y1)
             .flat_map(|y| {
                 f.obstacle[y * pw + around.x0..=y * pw + around.x1]
@@ -306,13 +316,26 @@ impl VoronoiField {
         let mut changes = Vec::new();
         f.features
             .update(pw, ph, &f.obstacle, flips.x0..=flips.x1, &mut changes);
-        std::mem::swap(&mut self.old_label, &mut f.components.label);
+        for &(y, _, _) in &changes {
+            self.row_max[y] = f.features.d2[y * pw..][..pw]
+                .iter()
+                .copied()
+                .max()
+                .unwrap_or(0);
+        }
         f.components.label(pw, ph, &f.obstacle);
-        let aw = around.x1 - around.x0 + 1;
-        let same = same_partition(&self.old_label, &f.components.label, around, pw, |p| {
-            let (x, y) = (p % pw - around.x0, p / pw - around.y0);
-            f.obstacle[p] && old[y * aw + x]
-        });
+        let new_label = window_cells(&f.components.label);
+        let kept: Vec<(u32, u32)> = old
+            .iter()
+            .zip(old_label.iter().zip(&new_label))
+            .enumerate()
+            .filter(|&(j, (&was, _))| {
+                was && f.obstacle
+                    [(around.y0 + j / around.width()) * pw + around.x0 + j % around.width()]
+            })
+            .map(|(_, (_, (&a, &b)))| (a, b))
+            .collect();
+        let regrouping = regrouping(kept, &f.components);
         let Field {
             obstacle,
             features,
@@ -323,66 +346,141 @@ impl VoronoiField {
             bh,
             ..
         } = f;
+        let (bw, bh) = (*bw, *bh);
         let tester = PairTest::new(pw, obstacle, features, &components.label);
-        if same {
-            for &(py, a, b) in &changes {
-                for y in py.saturating_sub(1).max(1)..=py.min(*bh) {
-                    for x in a.saturating_sub(1).max(1)..=b.min(*bw) {
-                        (right[y * pw + x], up[y * pw + x]) = tester.pairs(x, y);
+        let mut retest = |x: usize, y: usize| {
+            if (1..=bw).contains(&x) && (1..=bh).contains(&y) {
+                (right[y * pw + x], up[y * pw + x]) = tester.pairs(x, y);
+            }
+        };
+        for &(py, a, b) in &changes {
+            for y in py.saturating_sub(1)..=py {
+                for x in a.saturating_sub(1)..=b {
+                    retest(x, y);
+                }
+            }
+        }
+        match regrouping {
+            Regrouping::Same => {}
+            Regrouping::Split(minor) => {
+                // A pair whose test changed has the feature of one of its cells in
+                // a minor piece, within the cell's clearance of it.
+                let Some(b) = components.bounds_of(&minor) else {
+                    return;
+                };
+                let reach = self.row_max.iter().copied().max().unwrap_or(0);
+                let reach = (reach as f64).sqrt() as usize + 1;
+                for y in b.y0.saturating_sub(reach)..=(b.y1 + reach).min(ph - 1) {
+                    let dy = b.y0.saturating_sub(y).max(y.saturating_sub(b.y1)) as u64;
+                    let room = self.row_max[y] as u64;
+                    if dy * dy > room {
+                        continue;
+                    }
+                    let r = ((room - dy * dy) as f64).sqrt() as usize + 1;
+                    for x in b.x0.saturating_sub(r)..=(b.x1 + r).min(pw - 1) {
+                        let i = y * pw + x;
+                        let (fx, fy) = features.feature[i];
+                        let (fx, fy) = (fx as usize, fy as usize);
+                        if obstacle[i]
+                            || !b.holds(fx, fy)
+                            || minor
+                                .binary_search(&components.label[fy * pw + fx])
+                                .is_err()
+                        {
+                            continue;
+                        }
+                        retest(x, y);
+                        retest(x.wrapping_sub(1), y);
+                        retest(x, y.wrapping_sub(1));
                     }
                 }
             }
-        } else {
-            right
-                .par_chunks_mut(pw)
-                .zip(up.par_chunks_mut(pw))
-                .enumerate()
-                .skip(1)
-                .take(*bh)
-                .for_each(|(py, (right_row, up_row))| {
-                    for px in 1..=*bw {
-                        (right_row[px], up_row[px]) = tester.pairs(px, py);
-                    }
-                });
+            Regrouping::Merged => {
+                right
+                    .par_chunks_mut(pw)
+                    .zip(up.par_chunks_mut(pw))
+                    .enumerate()
+                    .skip(1)
+                    .take(bh)
+                    .for_each(|(py, (right_row, up_row))| {
+                        for px in 1..=bw {
+                            (right_row[px], up_row[px]) = tester.pairs(px, py);
+                        }
+                    });
+            }
         }
     }
 
     /// The diagram for the drivable cells of `trav`: what [`gvd`] computes.
     pub fn diagram(&self, knowledge: &OccupancyGrid, trav: &Traversability) -> Gvd {
-        self.field.diagram(knowledge.geometry(), &trav.passable)
+        // Rows of obstacle cells only have no skeleton and no clearance; the
+        // padded rows with a positive distance are the frame's rows + 1.
+        let open = |y: &usize| self.row_max[*y] > 0;
+        let rows = match (
+            (0..self.row_max.len()).find(open),
+            (0..self.row_max.len()).rfind(open),
+        ) {
+            (Some(a), Some(b)) => a - 1..b,
+            _ => 0..0,
+        };
+        self.field
+            .diagram(knowledge.geometry(), &trav.passable, rows)
     }
 }
 
-/// Whether the labels `old` and `new` group the cells `keep` of `window` (padded
-/// indices of a window `pw` wide) alike.
-fn same_partition(
-    old: &[u32],
-    new: &[u32],
-    window: Window,
-    pw: usize,
-    keep: impl Fn(usize) -> bool,
-) -> bool {
-    let mut forward: HashMap<u32, u32> = HashMap::new();
-    let mut backward: HashMap<u32, u32> = HashMap::new();
-    let mut last = None;
-    for y in window.y0..=window.y1 {
-        for p in y * pw + window.x0..=y * pw + window.x1 {
-            if !keep(p) {
-                continue;
-            }
-            let pair = (old[p], new[p]);
-            // Neighbouring cells mostly share their labels.
-            if last == Some(pair) {
-                continue;
-            }
-            last = Some(pair);
-            let (a, b) = pair;
-            if *forward.entry(a).or_insert(b) != b || *backward.entry(b).or_insert(a) != a {
-                return false;
-            }
-        }
+/// How the partition into components changed on the cells that stayed
+/// obstacles.
+#[derive(Debug, PartialEq)]
+enum Regrouping {
+    /// Not at all.
+    Same,
+    /// Components split and none merged: the new labels of every piece but the
+    /// largest (ties: the lowest label) of each component that split, sorted.
+    Split(Vec<u32>),
+    /// Components merged.
+    Merged,
+}
+
+/// The [`Regrouping`] from the old and new labels of the cells that stayed
+/// obstacles around the change (which suffice: see [`VoronoiField`]), and the
+/// new components.
+fn regrouping(mut pairs: Vec<(u32, u32)>, new: &Components) -> Regrouping {
+    pairs.sort_unstable();
+    pairs.dedup();
+    let mut by_new: Vec<(u32, u32)> = pairs.iter().map(|&(a, b)| (b, a)).collect();
+    by_new.sort_unstable();
+    if by_new.windows(2).any(|w| w[0].0 == w[1].0) {
+        return Regrouping::Merged;
     }
-    true
+    // Pieces of the components that split: old label, new label.
+    let split: Vec<(u32, u32)> = pairs
+        .chunk_by(|a, b| a.0 == b.0)
+        .filter(|group| group.len() > 1)
+        .flatten()
+        .copied()
+        .collect();
+    if split.is_empty() {
+        return Regrouping::Same;
+    }
+    let mut pieces: Vec<u32> = split.iter().map(|&(_, b)| b).collect();
+    pieces.sort_unstable();
+    let size = new.sizes_of(&pieces);
+    let mut minor = Vec::new();
+    for group in split.chunk_by(|a, b| a.0 == b.0) {
+        let size_of = |b: u32| size[pieces.binary_search(&b).unwrap_or(0)];
+        let largest = group
+            .iter()
+            .map(|&(_, b)| b)
+            .max_by(|&x, &y| size_of(x).cmp(&size_of(y)).then(y.cmp(&x)));
+        minor.extend(
+            group
+                .iter()
+                .map(|&(_, b)| b)
+                .filter(|&b| Some(b) != largest),
+        );
+    }
+    minor.sort_unstable();
+    Regrouping::Split(minor)
 }
 
 /// The straddling-pair test of step 3 over a padded window.
@@ -523,6 +621,8 @@ fn wins(p: Site, q: Site, feature: &[(u32, u32)], d2: &[u32]) -> bool {
 /// kept between calls.
 #[derive(Debug, Default)]
 struct Components {
+    /// Width of the window labelled last.
+    pw: usize,
     /// Runs of obstacle cells: (row, first column, last column), row by row.
     runs: Vec<(usize, usize, usize)>,
     row_start: Vec<usize>,
@@ -539,11 +639,13 @@ impl Components {
     /// the row below that overlaps it or touches it diagonally. Linear in the
     /// cells, and fast where obstacles are large solid areas.
     fn label(&mut self, pw: usize, ph: usize, obstacle: &[bool]) -> &[u32] {
+        self.pw = pw;
         let Self {
             runs,
             row_start,
             parent,
             label,
+            ..
         } = self;
         runs.clear();
         row_start.clear();
@@ -601,6 +703,53 @@ impl Components {
             label[y * pw + a..=y * pw + b].fill(r);
         }
         label
+    }
+}
+
+impl Components {
+    /// The label of a run.
+    fn run_label(&self, pw: usize, (y, a, _): (usize, usize, usize)) -> u32 {
+        self.label[y * pw + a]
+    }
+
+    /// The number of cells of each component of `labels` (sorted).
+    fn sizes_of(&self, labels: &[u32]) -> Vec<usize> {
+        let pw = self.pw;
+        let mut size = vec![0; labels.len()];
+        for &run in &self.runs {
+            if let Ok(j) = labels.binary_search(&self.run_label(pw, run)) {
+                size[j] += run.2 - run.1 + 1;
+            }
+        }
+        size
+    }
+
+    /// The bounding box of the components `labels` (sorted), padded
+    /// coordinates; `None` if there are none.
+    fn bounds_of(&self, labels: &[u32]) -> Option<Window> {
+        let pw = self.pw;
+        let mut b: Option<Window> = None;
+        for &run in &self.runs {
+            if labels.binary_search(&self.run_label(pw, run)).is_err() {
+                continue;
+            }
+            let (y, x0, x1) = run;
+            b = Some(match b {
+                None => Window {
+                    x0,
+                    y0: y,
+                    x1,
+                    y1: y,
+                },
+                Some(w) => Window {
+                    x0: w.x0.min(x0),
+                    y0: w.y0.min(y),
+                    x1: w.x1.max(x1),
+                    y1: w.y1.max(y),
+                },
+            });
+        }
+        b
     }
 }
 
@@ -771,24 +920,14 @@ pub(super) mod tests {
         assert_eq!(a.features.feature, b.features.feature, "features");
         assert_eq!(a.features.d2, b.features.d2, "squared distances");
         assert!(a.right == b.right && a.up == b.up, "straddling pairs");
-        let n = a.obstacle.len();
-        let ends: Vec<usize> = (0..n).filter(|&p| a.obstacle[p]).collect();
-        let window = Window {
-            x0: 0,
-            y0: 0,
-            x1: a.pw() - 1,
-            y1: a.bh + 1,
-        };
-        assert!(
-            same_partition(
-                &a.components.label,
-                &b.components.label,
-                window,
-                a.pw(),
-                |p| a.obstacle[p]
-            ),
-            "components ({} obstacle cells)",
-            ends.len()
+        let labels: Vec<(u32, u32)> = (0..a.obstacle.len())
+            .filter(|&p| a.obstacle[p])
+            .map(|p| (a.components.label[p], b.components.label[p]))
+            .collect();
+        assert_eq!(
+            regrouping(labels, &b.components),
+            Regrouping::Same,
+            "components"
         );
         let trav = Traversability::new(knowledge, radius, robot);
         let (d, e) = (kept.diagram(knowledge, &trav), gvd(knowledge, &trav));
