@@ -363,8 +363,9 @@ pub fn run_episode_with(
         config.parent.calibration_floor,
     );
     let cell_m2 = g.resolution * g.resolution;
-    // The gain estimate's field, the border and band, and the parent's drivable
-    // cells, kept up to date scan by scan.
+    // The gain estimate's field, the border and band, the parent's drivable
+    // cells and, with children, the GVD's obstacle side, kept up to date scan by
+    // scan.
     let mut near = NearField::new(&knowledge, config);
     let mut frontier = Frontier::new(&knowledge, &config.parent);
     let mut drivable = Drivable::new(&knowledge, config.robot.radius);

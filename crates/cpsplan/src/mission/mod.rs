@@ -16,7 +16,8 @@
 //! An episode keeps what a scan changes only locally up to date scan by scan
 //! instead of computing it again over the whole map each round (the gain
 //! estimate's field, the border and band, the parent's drivable cells:
-//! [`crate::parent::Kept`]); [`plan_step`] computes them afresh.
+//! [`crate::parent::Kept`]; with children the GVD's obstacle side:
+//! [`crate::motion::VoronoiField`]); [`plan_step`] computes them afresh.
 //!
 //! - `episode`: [`run_episode`] and its records.
 //! - `step`: [`plan_step`].
