@@ -247,7 +247,7 @@ pub fn gvd(knowledge: &OccupancyGrid, trav: &Traversability) -> Gvd {
 /// [`Self::update`] redoes:
 /// - the obstacles in the bounding box `W` of the changed cells;
 /// - the column pass in `W`'s columns, the row pass in the rows where the column
-///   pass changed ([`FeatureBuffers::update`]);
+///   pass changed;
 /// - the components, all of them (a removed cell can split a wall far away);
 ///   then the pairs of the cells whose feature changed, and of every cell if the
 ///   partition into components changed on the cells that stayed obstacles. It
