@@ -134,6 +134,12 @@ impl Field {
             pairs.clear();
             pairs.resize(pw * ph, PAIR_NONE);
         }
+        self.all_pairs();
+    }
+
+    /// Tests every pair of the frame (rows in parallel).
+    fn all_pairs(&mut self) {
+        let (pw, bw, bh) = (self.pw(), self.bw, self.bh);
         let Self {
             obstacle,
             features,
@@ -249,10 +255,11 @@ pub fn gvd(knowledge: &OccupancyGrid, trav: &Traversability) -> Gvd {
 /// - the column pass in `W`'s columns, the row pass in the rows where the column
 ///   pass changed;
 /// - the components, all of them (a removed cell can split a wall far away);
-///   then the pairs of the cells whose feature changed, and of every cell if the
-///   partition into components changed on the cells that stayed obstacles. It
-///   suffices to compare the partitions on those cells in `W` + 1: a path of
-///   obstacle cells that enters `W` does so through one of them.
+/// - the pairs of the cells whose feature changed; if the partition into
+///   components changed on the cells that stayed obstacles, also those of the
+///   cells whose feature lies in a piece split off (a split), or every pair (a
+///   merge). It suffices to compare the partitions on those cells in `W` + 1: a
+///   path of obstacle cells that enters `W` does so through one of them.
 #[derive(Debug)]
 pub struct VoronoiField {
     field: Field,
@@ -270,7 +277,7 @@ impl VoronoiField {
             .features
             .d2
             .chunks_exact(field.pw())
-            .map(|row| row.iter().copied().max().unwrap_or(0))
+            .map(largest)
             .collect();
         Self { field, row_max }
     }
@@ -297,19 +304,8 @@ impl VoronoiField {
         };
         // The cells of `W` + 1 that were obstacles before, and their components.
         let around = flips.grow(1, &padded);
-        let window_cells = |v: &[u32]| -> Vec<u32> {
-            (around.y0..=around.y1)
-                .flat_map(|y| v[y * pw + around.x0..=y * pw + around.x1].iter().copied())
-                .collect()
-        };
-        let old_label = window_cells(&f.components.label);
-        let old: Vec<bool> = (around.y0..=around.y1)
-            .flat_map(|y| {
-                f.obstacle[y * pw + around.x0..=y * pw + around.x1]
-                    .iter()
-                    .copied()
-            })
-            .collect();
+        let old_label = window_of(&f.components.label, around, pw);
+        let old = window_of(&f.obstacle, around, pw);
         for &p in &flipped {
             f.obstacle[p] = !f.obstacle[p];
         }
@@ -317,14 +313,10 @@ impl VoronoiField {
         f.features
             .update(pw, ph, &f.obstacle, flips.x0..=flips.x1, &mut changes);
         for &(y, _, _) in &changes {
-            self.row_max[y] = f.features.d2[y * pw..][..pw]
-                .iter()
-                .copied()
-                .max()
-                .unwrap_or(0);
+            self.row_max[y] = largest(&f.features.d2[y * pw..][..pw]);
         }
         f.components.label(pw, ph, &f.obstacle);
-        let new_label = window_cells(&f.components.label);
+        let new_label = window_of(&f.components.label, around, pw);
         let kept: Vec<(u32, u32)> = old
             .iter()
             .zip(old_label.iter().zip(&new_label))
@@ -336,6 +328,10 @@ impl VoronoiField {
             .map(|(_, (_, (&a, &b)))| (a, b))
             .collect();
         let regrouping = regrouping(kept, &f.components);
+        if regrouping == Regrouping::Merged {
+            f.all_pairs();
+            return;
+        }
         let Field {
             obstacle,
             features,
@@ -360,53 +356,37 @@ impl VoronoiField {
                 }
             }
         }
-        match regrouping {
-            Regrouping::Same => {}
-            Regrouping::Split(minor) => {
-                // A pair whose test changed has the feature of one of its cells in
-                // a minor piece, within the cell's clearance of it.
-                let Some(b) = components.bounds_of(&minor) else {
-                    return;
-                };
-                let reach = self.row_max.iter().copied().max().unwrap_or(0);
-                let reach = (reach as f64).sqrt() as usize + 1;
-                for y in b.y0.saturating_sub(reach)..=(b.y1 + reach).min(ph - 1) {
-                    let dy = b.y0.saturating_sub(y).max(y.saturating_sub(b.y1)) as u64;
-                    let room = self.row_max[y] as u64;
-                    if dy * dy > room {
+        if let Regrouping::Split(minor) = regrouping {
+            // A pair whose test changed has the feature of one of its cells in
+            // a minor piece, within the cell's clearance of it.
+            let Some(b) = components.bounds_of(&minor) else {
+                return;
+            };
+            let reach = largest(&self.row_max);
+            let reach = (reach as f64).sqrt() as usize + 1;
+            for y in b.y0.saturating_sub(reach)..=(b.y1 + reach).min(ph - 1) {
+                let dy = b.y0.saturating_sub(y).max(y.saturating_sub(b.y1)) as u64;
+                let room = self.row_max[y] as u64;
+                if dy * dy > room {
+                    continue;
+                }
+                let r = ((room - dy * dy) as f64).sqrt() as usize + 1;
+                for x in b.x0.saturating_sub(r)..=(b.x1 + r).min(pw - 1) {
+                    let i = y * pw + x;
+                    let (fx, fy) = features.feature[i];
+                    let (fx, fy) = (fx as usize, fy as usize);
+                    if obstacle[i]
+                        || !b.holds(fx, fy)
+                        || minor
+                            .binary_search(&components.label[fy * pw + fx])
+                            .is_err()
+                    {
                         continue;
                     }
-                    let r = ((room - dy * dy) as f64).sqrt() as usize + 1;
-                    for x in b.x0.saturating_sub(r)..=(b.x1 + r).min(pw - 1) {
-                        let i = y * pw + x;
-                        let (fx, fy) = features.feature[i];
-                        let (fx, fy) = (fx as usize, fy as usize);
-                        if obstacle[i]
-                            || !b.holds(fx, fy)
-                            || minor
-                                .binary_search(&components.label[fy * pw + fx])
-                                .is_err()
-                        {
-                            continue;
-                        }
-                        retest(x, y);
-                        retest(x.wrapping_sub(1), y);
-                        retest(x, y.wrapping_sub(1));
-                    }
+                    retest(x, y);
+                    retest(x.wrapping_sub(1), y);
+                    retest(x, y.wrapping_sub(1));
                 }
-            }
-            Regrouping::Merged => {
-                right
-                    .par_chunks_mut(pw)
-                    .zip(up.par_chunks_mut(pw))
-                    .enumerate()
-                    .skip(1)
-                    .take(bh)
-                    .for_each(|(py, (right_row, up_row))| {
-                        for px in 1..=bw {
-                            (right_row[px], up_row[px]) = tester.pairs(px, py);
-                        }
-                    });
             }
         }
     }
@@ -426,6 +406,19 @@ impl VoronoiField {
         self.field
             .diagram(knowledge.geometry(), &trav.passable, rows)
     }
+}
+
+/// The cells of `window` (padded coordinates of a window `pw` wide) of `v`, row
+/// by row.
+fn window_of<T: Copy>(v: &[T], window: Window, pw: usize) -> Vec<T> {
+    (window.y0..=window.y1)
+        .flat_map(|y| v[y * pw + window.x0..=y * pw + window.x1].iter().copied())
+        .collect()
+}
+
+/// The largest value of a row (0 for none).
+fn largest(row: &[u32]) -> u32 {
+    row.iter().copied().max().unwrap_or(0)
 }
 
 /// How the partition into components changed on the cells that stayed
@@ -708,16 +701,15 @@ impl Components {
 
 impl Components {
     /// The label of a run.
-    fn run_label(&self, pw: usize, (y, a, _): (usize, usize, usize)) -> u32 {
-        self.label[y * pw + a]
+    fn run_label(&self, (y, a, _): (usize, usize, usize)) -> u32 {
+        self.label[y * self.pw + a]
     }
 
     /// The number of cells of each component of `labels` (sorted).
     fn sizes_of(&self, labels: &[u32]) -> Vec<usize> {
-        let pw = self.pw;
         let mut size = vec![0; labels.len()];
         for &run in &self.runs {
-            if let Ok(j) = labels.binary_search(&self.run_label(pw, run)) {
+            if let Ok(j) = labels.binary_search(&self.run_label(run)) {
                 size[j] += run.2 - run.1 + 1;
             }
         }
@@ -727,10 +719,9 @@ impl Components {
     /// The bounding box of the components `labels` (sorted), padded
     /// coordinates; `None` if there are none.
     fn bounds_of(&self, labels: &[u32]) -> Option<Window> {
-        let pw = self.pw;
         let mut b: Option<Window> = None;
         for &run in &self.runs {
-            if labels.binary_search(&self.run_label(pw, run)).is_err() {
+            if labels.binary_search(&self.run_label(run)).is_err() {
                 continue;
             }
             let (y, x0, x1) = run;
