@@ -38,6 +38,8 @@
 
 use std::collections::HashMap;
 
+use rayon::prelude::*;
+
 use crate::geom::Cell;
 use crate::grid::GridGeometry;
 
@@ -74,15 +76,22 @@ const DIRS: [(i64, i64); 4] = [(1, 0), (0, 1), (-1, 0), (0, -1)];
 /// outlines, unsorted, with repeats) of the non-drivable region of `drivable`.
 pub(super) fn corners(g: &GridGeometry, drivable: &[bool]) -> (Vec<Cell>, Vec<Cell>) {
     let contours = trace_contours(g, drivable);
-    let mut candidates = Vec::new();
-    let mut detail = Vec::new();
-    for contour in &contours {
-        let polygon = simplify_closed(contour, RDP_TOLERANCE);
-        convex_corners(g, drivable, &polygon, &mut candidates);
-        let raw: Vec<Pt> = contour.iter().map(|&(x, y)| Pt::new(x, y)).collect();
-        convex_corners(g, drivable, &raw, &mut detail);
-    }
-    (merge_close(candidates, MERGE_DISTANCE), detail)
+    // The contours are simplified in parallel; their corners join in the
+    // contours' order.
+    let per_contour: Vec<(Vec<Cell>, Vec<Cell>)> = contours
+        .par_iter()
+        .map(|contour| {
+            let (mut candidates, mut detail) = (Vec::new(), Vec::new());
+            let polygon = simplify_closed(contour, RDP_TOLERANCE);
+            convex_corners(g, drivable, &polygon, &mut candidates);
+            let raw: Vec<Pt> = contour.iter().map(|&(x, y)| Pt::new(x, y)).collect();
+            convex_corners(g, drivable, &raw, &mut detail);
+            (candidates, detail)
+        })
+        .collect();
+    let (candidates, detail): (Vec<Vec<Cell>>, Vec<Vec<Cell>>) = per_contour.into_iter().unzip();
+    let detail = detail.concat();
+    (merge_close(candidates.concat(), MERGE_DISTANCE), detail)
 }
 
 /// The closed outlines of the non-drivable region, as the lattice corners where

@@ -76,7 +76,7 @@
 //! 10–15 ms; a query takes 0.2–0.3 ms. Tunnel map: 950 vertices, 41 719 edges,
 //! about 30 ms (its curved walls keep many corners); site map: 82 vertices.
 
-use std::cmp::Ordering;
+use std::cmp::{Ordering, Reverse};
 use std::collections::BinaryHeap;
 
 use rayon::prelude::*;
@@ -402,9 +402,33 @@ impl VisibilityGraph {
         let mut dist = vec![f64::INFINITY; all];
         let mut prev = vec![usize::MAX; all];
         let mut done = vec![false; all];
+        // Each expanded node's successors are sorted once, cheapest last, and
+        // only the cheapest not yet taken of each node is in the heap: the heap
+        // then hands out every entry in the same order as if all had been
+        // queued at once (the order of entries is total: no two share their
+        // node and the node they come from), while it holds one entry per
+        // expanded node instead of one per leg. The lists keep only the nodes
+        // (4 bytes an entry); an entry's costs are computed again, by the same
+        // operations, when it is taken.
+        let entry = |owner: usize, g_owner: f64, next: u32| {
+            let tested = next & TESTED != 0;
+            let next = (next & !TESTED) as usize;
+            let g = g_owner + cell_distance(cell_of(owner), cell_of(next)) * res;
+            State::new(g + bound[next], g, next, owner as u32, tested)
+        };
+        let mut successors = Successors::default();
         let mut heap = BinaryHeap::new();
-        heap.push(State::new(bound[src], 0.0, src, START, true));
-        while let Some(e) = heap.pop() {
+        heap.push(Head {
+            state: State::new(bound[src], 0.0, src, START, true),
+            list: None,
+        });
+        while let Some(Head { state: e, list }) = heap.pop() {
+            if let Some(l) = list {
+                if let Some((owner, g, next)) = successors.take(l, &done) {
+                    let state = entry(owner, g, next);
+                    heap.push(Head { state, list });
+                }
+            }
             let node = e.node();
             if done[node] {
                 continue;
@@ -426,7 +450,7 @@ impl VisibilityGraph {
                 if b.is_infinite() || e.g + d + b > limit {
                     return;
                 }
-                heap.push(State::new(e.g + d + b, e.g + d, next, node as u32, tested));
+                successors.push(e.g + d + b, next, tested);
             };
             if node < n {
                 let a = self.vertices[node];
@@ -438,6 +462,12 @@ impl VisibilityGraph {
             }
             for &(next, d) in &extra[node] {
                 queue(next, d, true);
+            }
+            if let Some((l, next)) = successors.close(node, e.g, &done) {
+                heap.push(Head {
+                    state: entry(node, e.g, next),
+                    list: Some(l),
+                });
             }
         }
         if !dist[dst].is_finite() {
@@ -510,6 +540,104 @@ impl State {
         } else {
             self.from as usize
         }
+    }
+}
+
+/// The successors of the expanded nodes of one search, each node's sorted with
+/// its cheapest last, in one buffer of nodes (with [`TESTED`] set for a leg
+/// known to be clear).
+#[derive(Default)]
+struct Successors {
+    /// The entries of the node being expanded, before they are sorted: the
+    /// cost with the bound (its bits: costs are finite and not negative, so
+    /// they order as their values) and the node with its [`TESTED`] flag.
+    open: Vec<(u64, u32)>,
+    nodes: Vec<u32>,
+    lists: Vec<List>,
+}
+
+/// One expanded node's successors in [`Successors::nodes`].
+struct List {
+    /// Where the list starts.
+    start: usize,
+    /// Where its untaken entries end.
+    end: usize,
+    /// The expanded node.
+    owner: usize,
+    /// Its cost from the start, metres.
+    g: f64,
+}
+
+impl Successors {
+    /// Adds an entry to the list of the node being expanded: `next` at `cost`
+    /// (metres, with the bound).
+    fn push(&mut self, cost: f64, next: usize, tested: bool) {
+        debug_assert!(cost >= 0.0 && next < TESTED as usize);
+        let flag = if tested { TESTED } else { 0 };
+        self.open.push((cost.to_bits(), next as u32 | flag));
+    }
+
+    /// Sorts the entries pushed since the last call into the list of `owner`,
+    /// reached at cost `g`: the list's index and its cheapest entry to a node
+    /// not `done`.
+    fn close(&mut self, owner: usize, g: f64, done: &[bool]) -> Option<(usize, u32)> {
+        // The order of the heap's entries ([`State`]'s, whose node they all
+        // come from here), reversed: by cost, then by node, the first last.
+        self.open
+            .sort_unstable_by_key(|&(cost, node)| Reverse((cost, node & !TESTED)));
+        let start = self.nodes.len();
+        self.nodes.extend(self.open.drain(..).map(|(_, node)| node));
+        self.lists.push(List {
+            start,
+            end: self.nodes.len(),
+            owner,
+            g,
+        });
+        let l = self.lists.len() - 1;
+        self.take(l, done).map(|(_, _, next)| (l, next))
+    }
+
+    /// The cheapest untaken entry of list `l` to a node not `done` yet; the
+    /// entries to done nodes before it are dropped, as the search would skip
+    /// them.
+    /// Returns the list's owner and its cost with the entry.
+    fn take(&mut self, l: usize, done: &[bool]) -> Option<(usize, f64, u32)> {
+        let list = &mut self.lists[l];
+        while list.end > list.start {
+            list.end -= 1;
+            let next = self.nodes[list.end];
+            if !done[(next & !TESTED) as usize] {
+                return Some((list.owner, list.g, next));
+            }
+        }
+        None
+    }
+}
+
+/// A heap entry: the cheapest untaken successor of an expanded node (`list`),
+/// or the start.
+struct Head {
+    state: State,
+    list: Option<usize>,
+}
+
+impl PartialEq for Head {
+    fn eq(&self, other: &Self) -> bool {
+        self.state == other.state
+    }
+}
+
+impl Eq for Head {}
+
+impl Ord for Head {
+    fn cmp(&self, other: &Self) -> Ordering {
+        self.state.cmp(&other.state)
+    }
+}
+
+impl PartialOrd for Head {
+    fn partial_cmp(&self, other: &Self) -> Option<Ordering> {
+        Some(self.cmp(other))
     }
 }
 
