@@ -10,15 +10,18 @@
 //! roughly fixed amount per scan (the band samples, the candidates, the paths and
 //! the 3D model's per-point distances). The pictures are drawn after the run,
 //! when the planning structures are gone. The constants come from measured peaks
-//! of the resident memory (`VmHWM`, which also counts what the allocator keeps):
-//! the per-cell ones from the campus map (6.07 million cells, 307 scans) and one
-//! team step on a 10⁸-cell site (1 km × 1 km at 0.1 m, everything known: 3.84 GB
-//! against 3.84 GB estimated); docs/PERFORMANCE.md lists the estimate against
-//! the measured peak on every map tried: within about 10 % on the large
-//! maps, up to a quarter low or half high on small ones, and short with children
-//! on open ground, where the Visibility-Graph search's queue (not counted here)
-//! grows with the corners in view. The pictures'
-//! size is the caller's to give ([`MemoryEstimate::with_pictures`]): it depends
+//! of the resident memory (`VmHWM`, which also counts what the allocator
+//! keeps): the per-cell ones from the campus map (6.07 million cells, 307
+//! scans) and one team step on a 10⁸-cell site (1 km × 1 km at 0.1 m,
+//! everything known: 3.84 GB against 3.84 GB for a step's structures). An
+//! episode with children also keeps the GVD's obstacle side over the whole
+//! grid across scans, counted from its buffers' sizes
+//! ([`KEPT_TEAM_BYTES_PER_CELL`]). docs/PERFORMANCE.md lists the estimate
+//! against the measured peak on every map tried: within about 15 % on the
+//! large maps, up to half high on small ones, and short with children on open
+//! ground, where the Visibility-Graph search's lists and queue (not counted
+//! here) grow with the corners in view. The pictures' size is the caller's to
+//! give ([`MemoryEstimate::with_pictures`]): it depends
 //! on how they are drawn.
 
 use crate::config::Config;
@@ -30,6 +33,12 @@ pub const FIXED_BYTES: u64 = 24 << 20;
 pub const PARENT_BYTES_PER_CELL: u64 = 32;
 /// Bytes per planning cell with children (their terrain, GVD and sight fields).
 pub const TEAM_BYTES_PER_CELL: u64 = 40;
+/// Bytes per planning cell an episode with children keeps across scans besides
+/// a step's structures: the GVD's obstacle side over the whole grid
+/// (`motion::VoronoiField`: the obstacle flags, the nearest obstacle cell and
+/// its squared distance, the column pass's nearest row, the component labels
+/// and the two straddling-pair flags: 1 + 8 + 4 + 4 + 4 + 2 bytes).
+pub const KEPT_TEAM_BYTES_PER_CELL: u64 = 23;
 /// Bytes of records per scan at the paper's 20 m scanner range; they grow with
 /// the range (a scan sees more border and more wall).
 pub const SCAN_BYTES_AT_20_M: u64 = 150_000;
@@ -55,12 +64,13 @@ pub struct MemoryEstimate {
 }
 
 impl MemoryEstimate {
-    /// The estimate for a planning grid of `width` × `height` cells under
-    /// `config` (with children when `config.children.count > 0`).
+    /// The estimate for an episode on a planning grid of `width` × `height`
+    /// cells under `config` (with children when `config.children.count > 0`,
+    /// and then with what the episode keeps across scans).
     pub fn for_grid(width: usize, height: usize, config: &Config) -> Self {
         let cells = (width as u64).saturating_mul(height as u64);
         let per_cell = if config.children.count > 0 {
-            TEAM_BYTES_PER_CELL
+            TEAM_BYTES_PER_CELL + KEPT_TEAM_BYTES_PER_CELL
         } else {
             PARENT_BYTES_PER_CELL
         };
@@ -129,7 +139,7 @@ mod tests {
     fn a_square_kilometre_at_a_decimetre_needs_gigabytes() {
         let config = Config::default();
         let e = MemoryEstimate::for_grid(10_000, 10_000, &config);
-        assert!((3_500.0..4_500.0).contains(&e.mb(0)), "{}", e.mb(0));
+        assert!((5_500.0..6_500.0).contains(&e.mb(0)), "{}", e.mb(0));
         // Sizes beyond any machine saturate instead of wrapping.
         let huge = MemoryEstimate::for_grid(usize::MAX, usize::MAX, &config);
         assert_eq!(huge.bytes(usize::MAX), u64::MAX);

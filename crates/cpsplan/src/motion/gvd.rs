@@ -41,6 +41,7 @@
 
 use rayon::prelude::*;
 
+use std::ops::Range;
 use std::sync::Mutex;
 
 use crate::grid::distance::{feature_transform_into, FeatureBuffers};
@@ -69,12 +70,95 @@ pub struct Gvd {
     /// Per cell: the connected part of the skeleton it belongs to (`u32::MAX` off
     /// the skeleton).
     pub edge_component: Vec<u32>,
+    /// The cells (indices) outside which every cell is off the skeleton with
+    /// no clearance: what a recycled diagram has to reset.
+    written: Range<usize>,
 }
 
 impl Gvd {
     /// Number of skeleton cells.
     pub fn count(&self) -> usize {
         self.skeleton.iter().filter(|&&s| s).count()
+    }
+
+    /// A diagram of `n` cells with no skeleton and no clearance, whose cells
+    /// are to be written in the index range `written`: the buffers of a dropped
+    /// diagram of the same size when one is kept, else fresh ones.
+    fn blank(n: usize, written: Range<usize>) -> Self {
+        let kept = RECYCLED.lock().ok().and_then(|mut kept| {
+            let at = kept.iter().position(|d| d.skeleton.len() == n)?;
+            Some(kept.swap_remove(at))
+        });
+        match kept {
+            Some(d) => Self::reuse(d, written),
+            None => Self::fresh(n, written),
+        }
+    }
+
+    /// [`Self::blank`] in fresh buffers.
+    fn fresh(n: usize, written: Range<usize>) -> Self {
+        Self {
+            skeleton: vec![false; n],
+            clearance: vec![0.0; n],
+            edge_component: vec![NONE; n],
+            written,
+        }
+    }
+
+    /// [`Self::blank`] in the buffers of a dropped diagram, reset where it
+    /// wrote.
+    fn reuse(mut d: Recycled, written: Range<usize>) -> Self {
+        let old = d.written;
+        d.skeleton[old.clone()].fill(false);
+        d.edge_component[old.clone()].fill(NONE);
+        d.clearance[old].fill(0.0);
+        Self {
+            skeleton: d.skeleton,
+            clearance: d.clearance,
+            edge_component: d.edge_component,
+            written,
+        }
+    }
+
+    /// Moves the buffers out, for [`RECYCLED`].
+    fn recycle(&mut self) -> Recycled {
+        Recycled {
+            skeleton: std::mem::take(&mut self.skeleton),
+            clearance: std::mem::take(&mut self.clearance),
+            edge_component: std::mem::take(&mut self.edge_component),
+            written: self.written.clone(),
+        }
+    }
+}
+
+/// The buffers of a dropped [`Gvd`], and the cells it wrote.
+struct Recycled {
+    skeleton: Vec<bool>,
+    clearance: Vec<f32>,
+    edge_component: Vec<u32>,
+    written: Range<usize>,
+}
+
+/// Dropped diagrams' buffers kept for the next diagrams of their size (at most
+/// [`RECYCLE_KEEP`]: a step draws one diagram, or two when the parent and the
+/// children differ in radius), until [`release_buffers`]. A diagram is drawn on
+/// every step of an episode with children; fresh whole-grid buffers cost their
+/// page faults and zeroing each time.
+static RECYCLED: Mutex<Vec<Recycled>> = Mutex::new(Vec::new());
+
+/// How many dropped diagrams [`RECYCLED`] keeps.
+const RECYCLE_KEEP: usize = 2;
+
+impl Drop for Gvd {
+    fn drop(&mut self) {
+        if self.skeleton.is_empty() {
+            return;
+        }
+        if let Ok(mut kept) = RECYCLED.lock() {
+            if kept.len() < RECYCLE_KEEP {
+                kept.push(self.recycle());
+            }
+        }
     }
 }
 
@@ -165,16 +249,27 @@ impl Field {
     /// The diagram restricted to the drivable cells `passable` of the grid
     /// `g` (steps 4–5); `rows`: the frame's rows that hold a non-obstacle cell
     /// (or more).
-    fn diagram(&self, g: &GridGeometry, passable: &[bool], rows: std::ops::Range<usize>) -> Gvd {
-        let (w, n) = (g.width, g.len());
-        let mut skeleton = vec![false; n];
-        let mut clearance = vec![0.0f32; n];
+    fn diagram(&self, g: &GridGeometry, passable: &[bool], rows: Range<usize>) -> Gvd {
+        let out = Gvd::blank(g.len(), self.written(g, &rows));
+        self.draw(g, passable, rows, out)
+    }
+
+    /// The grid cells (indices) that [`Self::diagram`] of the frame's `rows`
+    /// writes.
+    fn written(&self, g: &GridGeometry, rows: &Range<usize>) -> Range<usize> {
+        (self.y0 + rows.start) * g.width..(self.y0 + rows.end) * g.width
+    }
+
+    /// [`Self::diagram`] drawn into `out`, a [`Gvd::blank`] for the cells
+    /// [`Self::written`].
+    fn draw(&self, g: &GridGeometry, passable: &[bool], rows: Range<usize>, mut out: Gvd) -> Gvd {
+        let w = g.width;
         let (x0, bw, pw) = (self.x0, self.bw, self.pw());
-        let y0 = self.y0 + rows.start;
+        let (y0, y1) = (self.y0 + rows.start, self.y0 + rows.end);
         let (right, up, d2) = (&self.right, &self.up, &self.features.d2);
-        skeleton[y0 * w..(self.y0 + rows.end) * w]
+        out.skeleton[y0 * w..y1 * w]
             .par_chunks_mut(w)
-            .zip(clearance[y0 * w..(self.y0 + rows.end) * w].par_chunks_mut(w))
+            .zip(out.clearance[y0 * w..y1 * w].par_chunks_mut(w))
             .enumerate()
             .for_each(|(ry, (row, clear_row))| {
                 let (by, y) = (rows.start + ry, y0 + ry);
@@ -193,12 +288,9 @@ impl Field {
                         || up[i - pw] == PAIR_SECOND;
                 }
             });
-        let edge_component = edge_components(g, passable, &skeleton);
-        Gvd {
-            skeleton,
-            clearance,
-            edge_component,
-        }
+        let written = out.written.clone();
+        edge_components(g, passable, &out.skeleton, &mut out.edge_component, written);
+        out
     }
 }
 
@@ -207,11 +299,15 @@ impl Field {
 /// [`release_buffers`].
 static SCRATCH: Mutex<Option<Field>> = Mutex::new(None);
 
-/// Frees the buffers [`gvd`] keeps between diagrams (an episode calls it when it
-/// ends, so that they do not add to what comes after).
+/// Frees the buffers [`gvd`] keeps between diagrams and those of dropped
+/// diagrams (an episode calls it when it ends, so that they do not add to what
+/// comes after).
 pub(crate) fn release_buffers() {
     if let Ok(mut kept) = SCRATCH.lock() {
         *kept = None;
+    }
+    if let Ok(mut kept) = RECYCLED.lock() {
+        kept.clear();
     }
 }
 
@@ -222,11 +318,7 @@ pub fn gvd(knowledge: &OccupancyGrid, trav: &Traversability) -> Gvd {
     // Everything outside the bounding box of the Free cells is an obstacle, so the
     // box plus a one-cell ring (the window) is all that matters.
     let Some((x0, y0, x1, y1)) = knowledge.bounds_of(|c| c == CellState::Free) else {
-        return Gvd {
-            skeleton: vec![false; g.len()],
-            clearance: vec![0.0; g.len()],
-            edge_component: vec![NONE; g.len()],
-        };
+        return Gvd::blank(g.len(), 0..0);
     };
     let kept = SCRATCH.lock().ok().and_then(|mut k| k.take());
     let mut field = kept.unwrap_or_default();
@@ -752,13 +844,20 @@ fn components(pw: usize, ph: usize, obstacle: &[bool]) -> Vec<u32> {
 
 /// Labels of the connected parts of the skeleton: 8-neighbouring skeleton cells
 /// are connected where a diagonal step has both cells beside it passable (the
-/// steps the path search takes). [`NONE`] off the skeleton.
-fn edge_components(g: &GridGeometry, passable: &[bool], skeleton: &[bool]) -> Vec<u32> {
+/// steps the path search takes), written into `label` ([`NONE`] everywhere
+/// before, and left so off the skeleton) for a skeleton within the cells
+/// `within` (indices).
+fn edge_components(
+    g: &GridGeometry,
+    passable: &[bool],
+    skeleton: &[bool],
+    label: &mut [u32],
+    within: Range<usize>,
+) {
     let (w, h) = (g.width as i64, g.height as i64);
-    let mut label = vec![NONE; g.len()];
     let mut stack = Vec::new();
     let mut next = 0u32;
-    for start in 0..g.len() {
+    for start in within {
         if !skeleton[start] || label[start] != NONE {
             continue;
         }
@@ -789,7 +888,6 @@ fn edge_components(g: &GridGeometry, passable: &[bool], skeleton: &[bool]) -> Ve
         }
         next += 1;
     }
-    label
 }
 
 #[cfg(test)]
@@ -977,6 +1075,34 @@ pub(super) mod tests {
                 assert_fresh(&kept, &knowledge, RADIUS, Cell::new(x % w, y % h));
             }
         }
+    }
+
+    #[test]
+    fn diagrams_in_recycled_buffers_equal_fresh_ones() {
+        // A diagram over the whole map leaves skeleton, clearance and parts
+        // where the next one, over a map known only in its lower half, has
+        // none.
+        let whole = room(60, 50, &[(20, 10, 5, 30)]);
+        let (_, old) = skeleton_of(&whole, Cell::new(5, 5));
+        let mut half = whole.clone();
+        half.fill_rect(0, 20, 60, 50, CellState::Unknown);
+        let trav = Traversability::new(&half, RADIUS, Cell::new(5, 5));
+        let g = half.geometry();
+        let bounds = half.bounds_of(|c| c == CellState::Free).unwrap();
+        let (x0, y0, x1, y1) = bounds;
+        let mut field = Field::default();
+        field.compute(&half, (x0, y0, x1 - x0 + 1, y1 - y0 + 1));
+        let rows = 0..field.bh;
+        let written = field.written(g, &rows);
+        assert!((0..g.len()).any(|i| old.skeleton[i] && !written.contains(&i)));
+        let mut old = old;
+        let reused = Gvd::reuse(old.recycle(), written.clone());
+        let reused = field.draw(g, &trav.passable, rows.clone(), reused);
+        let fresh = field.draw(g, &trav.passable, rows, Gvd::fresh(g.len(), written));
+        assert!(fresh.count() > 0);
+        assert_eq!(reused.skeleton, fresh.skeleton);
+        assert_eq!(reused.clearance, fresh.clearance);
+        assert_eq!(reused.edge_component, fresh.edge_component);
     }
 
     #[test]

@@ -23,6 +23,8 @@
 //! the cells cheaper than their goal (O(v log v) for `v` of them), and string
 //! pulling O(k² · l) for a leg of `k` cells and segments of `l` cells.
 
+use std::cell::RefCell;
+
 use super::gvd::Gvd;
 use crate::geom::Cell;
 use crate::grid::line::segment_clear;
@@ -68,11 +70,23 @@ pub fn voronoi_path(
     match along_edges(g, passable, gvd, from, to) {
         Some([approach, edge, leave]) => {
             append(pull(&approach, |a, b| clear(approach[a], approach[b])));
+            // The lowest clearance of each stretch `a..=b`: string pulling asks
+            // for the stretches of one anchor `a` at a time, so their running
+            // minima from `a` are computed once per anchor.
+            let minima = RefCell::new((usize::MAX, Vec::new()));
             let floor = |a: usize, b: usize| {
-                edge[a..=b]
-                    .iter()
-                    .map(|&c| gvd.clearance[g.index(c)])
-                    .fold(f32::INFINITY, f32::min)
+                let mut m = minima.borrow_mut();
+                let (anchor, run) = &mut *m;
+                if *anchor != a {
+                    *anchor = a;
+                    run.clear();
+                    let mut low = f32::INFINITY;
+                    run.extend(edge[a..].iter().map(|&c| {
+                        low = low.min(gvd.clearance[g.index(c)]);
+                        low
+                    }));
+                }
+                run[b - a]
             };
             append(pull(&edge, |a, b| {
                 let min = floor(a, b);

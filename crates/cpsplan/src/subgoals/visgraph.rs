@@ -31,7 +31,10 @@
 //!    the whole graph). The A* is *lazy* (LazySP, Dellin & Srinivasa, ICAPS
 //!    2016): an expanded vertex queues its legs to every other vertex untested,
 //!    and a leg is tested only when its entry is the first taken for its vertex,
-//!    so most legs of a cluttered map are never tested. Its bound to go is the
+//!    so most legs of a cluttered map are never tested. Each expanded vertex's
+//!    legs are sorted once into a list, and the heap holds only each list's
+//!    cheapest untaken entry (the same order of entries as queueing them all,
+//!    with one heap entry per expanded vertex). Its bound to go is the
 //!    straight-line distance, or, with travel distances from `from`
 //!    ([`VisibilityGraph::shortest_path_guided`], the parent's planning round
 //!    has them), those distances over [`GUIDE_FACTOR`]: consistent, far tighter
@@ -495,7 +498,7 @@ pub fn path_length(geometry: &GridGeometry, path: &[Cell]) -> f64 {
 }
 
 /// An A* queue entry: smallest cost first, ties by node, then by the vertex
-/// it is reached from. 24 bytes: a search on a large open map queues millions.
+/// it is reached from. 24 bytes; the successor lists keep only the node.
 #[derive(Debug, Clone, Copy, PartialEq)]
 struct State {
     /// Cost so far plus the bound to go, metres.
