@@ -5,41 +5,50 @@
 use crate::geom::Cell;
 use crate::grid::GridGeometry;
 
-/// Whether every cell of the supercover from `a` to `b` satisfies `ok(index)`.
+/// Whether every cell of the supercover from `a` to `b` satisfies `ok(index)`,
+/// asked in order from `a` to `b` and stopping at the first that does not.
+///
+/// An integer walk: the decision term `(1 + 2·ix)·ny − (1 + 2·iy)·nx` says
+/// whether the segment leaves the current cell across its vertical side (< 0),
+/// its horizontal side (> 0) or exactly through its corner (0, where both cells
+/// beside the corner are touched too). It and the cell's index are updated by
+/// additions only.
 pub fn segment_clear(
     geometry: &GridGeometry,
     a: Cell,
     b: Cell,
     ok: impl Fn(usize) -> bool,
 ) -> bool {
-    let (mut x, mut y) = (a.x as i64, a.y as i64);
-    let (dx, dy) = (b.x as i64 - x, b.y as i64 - y);
-    let (nx, ny) = (dx.abs(), dy.abs());
-    let (sx, sy) = (dx.signum(), dy.signum());
     let w = geometry.width as i64;
-    let at = |x: i64, y: i64| (y * w + x) as usize;
-    if !ok(at(x, y)) {
+    let (dx, dy) = (b.x as i64 - a.x as i64, b.y as i64 - a.y as i64);
+    let (nx, ny) = (dx.abs(), dy.abs());
+    // Index steps along x and along y.
+    let (step_x, step_y) = (dx.signum(), dy.signum() * w);
+    let mut i = a.y as i64 * w + a.x as i64;
+    if !ok(i as usize) {
         return false;
     }
+    let mut decision = ny - nx;
     let (mut ix, mut iy) = (0i64, 0i64);
     while ix < nx || iy < ny {
-        let decision = (1 + 2 * ix) * ny - (1 + 2 * iy) * nx;
         if decision == 0 {
-            if !ok(at(x + sx, y)) || !ok(at(x, y + sy)) {
+            if !ok((i + step_x) as usize) || !ok((i + step_y) as usize) {
                 return false;
             }
-            x += sx;
-            y += sy;
+            i += step_x + step_y;
             ix += 1;
             iy += 1;
+            decision += 2 * (ny - nx);
         } else if decision < 0 {
-            x += sx;
+            i += step_x;
             ix += 1;
+            decision += 2 * ny;
         } else {
-            y += sy;
+            i += step_y;
             iy += 1;
+            decision -= 2 * nx;
         }
-        if !ok(at(x, y)) {
+        if !ok(i as usize) {
             return false;
         }
     }
@@ -80,6 +89,44 @@ mod tests {
         }
         assert_eq!(c.first(), Some(&(1, 1)));
         assert_eq!(c.last(), Some(&(9, 4)));
+    }
+
+    /// The cells whose closed square the segment between the centres of `a`
+    /// and `b` touches: no side of the segment's line holds all four corners
+    /// strictly, within the segment's bounding box (coordinates doubled, so
+    /// exact in integers).
+    fn touched(a: Cell, b: Cell) -> std::collections::BTreeSet<(usize, usize)> {
+        let (ax, ay, bx, by) = (a.x as i64, a.y as i64, b.x as i64, b.y as i64);
+        let mut out = std::collections::BTreeSet::new();
+        for y in ay.min(by)..=ay.max(by) {
+            for x in ax.min(bx)..=ax.max(bx) {
+                let side = |px: i64, py: i64| {
+                    ((2 * bx - 2 * ax) * (py - 2 * ay) - (2 * by - 2 * ay) * (px - 2 * ax)).signum()
+                };
+                let corners = [(-1, -1), (1, -1), (-1, 1), (1, 1)]
+                    .map(|(ox, oy)| side(2 * x + ox, 2 * y + oy));
+                if corners.iter().any(|&c| c <= 0) && corners.iter().any(|&c| c >= 0) {
+                    out.insert((x as usize, y as usize));
+                }
+            }
+        }
+        out
+    }
+
+    proptest::proptest! {
+        #[test]
+        fn the_walk_asks_every_touched_cell_once_from_a_to_b(
+            a in (0usize..20, 0usize..20),
+            b in (0usize..20, 0usize..20),
+        ) {
+            let (a, b) = (Cell::new(a.0, a.1), Cell::new(b.0, b.1));
+            let c = cover(a, b);
+            let set: std::collections::BTreeSet<_> = c.iter().copied().collect();
+            proptest::prop_assert_eq!(set.len(), c.len(), "a cell asked twice: {:?}", c);
+            proptest::prop_assert_eq!(&set, &touched(a, b));
+            proptest::prop_assert_eq!(c.first(), Some(&(a.x, a.y)));
+            proptest::prop_assert_eq!(c.last(), Some(&(b.x, b.y)));
+        }
     }
 
     #[test]
