@@ -117,6 +117,12 @@ impl Traversability {
         self.escape
     }
 
+    /// The inclusive bounds `(x0, y0, x1, y1)` of the known cells these cells
+    /// were computed from; `None` when no cell is known.
+    pub(crate) fn known_bounds(&self) -> Option<(usize, usize, usize, usize)> {
+        self.clearance.known
+    }
+
     /// Metres from the centre of cell `index` to the nearest known Occupied cell
     /// (centre distance minus half a cell, at least 0; the `1/P` of Eq. 1);
     /// `f32::INFINITY` if none is known or the cell lies outside the bounding box of

@@ -70,9 +70,9 @@ pub struct Gvd {
     /// Per cell: the connected part of the skeleton it belongs to (`u32::MAX` off
     /// the skeleton).
     pub edge_component: Vec<u32>,
-    /// The cells (indices) outside which every cell is off the skeleton with
-    /// no clearance: what a recycled diagram has to reset.
-    written: Range<usize>,
+    /// The cells outside which every cell is off the skeleton with no
+    /// clearance: what a recycled diagram has to reset.
+    written: Option<Written>,
 }
 
 impl Gvd {
@@ -82,9 +82,9 @@ impl Gvd {
     }
 
     /// A diagram of `n` cells with no skeleton and no clearance, whose cells
-    /// are to be written in the index range `written`: the buffers of a dropped
-    /// diagram of the same size when one is kept, else fresh ones.
-    fn blank(n: usize, written: Range<usize>) -> Self {
+    /// are to be written in `written`: the buffers of a dropped diagram of the
+    /// same size when one is kept, else fresh ones.
+    fn blank(n: usize, written: Option<Written>) -> Self {
         let kept = RECYCLED.lock().ok().and_then(|mut kept| {
             let at = kept.iter().position(|d| d.skeleton.len() == n)?;
             Some(kept.swap_remove(at))
@@ -96,7 +96,7 @@ impl Gvd {
     }
 
     /// [`Self::blank`] in fresh buffers.
-    fn fresh(n: usize, written: Range<usize>) -> Self {
+    fn fresh(n: usize, written: Option<Written>) -> Self {
         Self {
             skeleton: vec![false; n],
             clearance: vec![0.0; n],
@@ -107,11 +107,12 @@ impl Gvd {
 
     /// [`Self::blank`] in the buffers of a dropped diagram, reset where it
     /// wrote.
-    fn reuse(mut d: Recycled, written: Range<usize>) -> Self {
-        let old = d.written;
-        d.skeleton[old.clone()].fill(false);
-        d.edge_component[old.clone()].fill(NONE);
-        d.clearance[old].fill(0.0);
+    fn reuse(mut d: Recycled, written: Option<Written>) -> Self {
+        for row in d.written.iter().flat_map(Written::rows) {
+            d.skeleton[row.clone()].fill(false);
+            d.edge_component[row.clone()].fill(NONE);
+            d.clearance[row].fill(0.0);
+        }
         Self {
             skeleton: d.skeleton,
             clearance: d.clearance,
@@ -126,8 +127,23 @@ impl Gvd {
             skeleton: std::mem::take(&mut self.skeleton),
             clearance: std::mem::take(&mut self.clearance),
             edge_component: std::mem::take(&mut self.edge_component),
-            written: self.written.clone(),
+            written: self.written,
         }
+    }
+}
+
+/// A rectangle of a grid `width` cells wide that a diagram writes.
+#[derive(Debug, Clone, Copy)]
+struct Written {
+    window: Window,
+    width: usize,
+}
+
+impl Written {
+    /// The rectangle's rows, as index ranges.
+    fn rows(&self) -> impl Iterator<Item = Range<usize>> + '_ {
+        let Window { x0, y0, x1, y1 } = self.window;
+        (y0..=y1).map(move |y| y * self.width + x0..y * self.width + x1 + 1)
     }
 }
 
@@ -136,7 +152,7 @@ struct Recycled {
     skeleton: Vec<bool>,
     clearance: Vec<f32>,
     edge_component: Vec<u32>,
-    written: Range<usize>,
+    written: Option<Written>,
 }
 
 /// Dropped diagrams' buffers kept for the next diagrams of their size (at most
@@ -247,24 +263,54 @@ impl Field {
     }
 
     /// The diagram restricted to the drivable cells `passable` of the grid
-    /// `g` (steps 4–5); `rows`: the frame's rows that hold a non-obstacle cell
-    /// (or more).
-    fn diagram(&self, g: &GridGeometry, passable: &[bool], rows: Range<usize>) -> Gvd {
-        let out = Gvd::blank(g.len(), self.written(g, &rows));
-        self.draw(g, passable, rows, out)
+    /// `g` (steps 4–5); `rows` and `cols`: the frame's rows and columns outside
+    /// which every cell is an obstacle.
+    fn diagram(
+        &self,
+        g: &GridGeometry,
+        passable: &[bool],
+        rows: Range<usize>,
+        cols: Range<usize>,
+    ) -> Gvd {
+        let out = Gvd::blank(g.len(), self.written(g, &rows, &cols));
+        self.draw(g, passable, rows, cols, out)
     }
 
-    /// The grid cells (indices) that [`Self::diagram`] of the frame's `rows`
+    /// The grid cells that [`Self::diagram`] of the frame's `rows` and `cols`
     /// writes.
-    fn written(&self, g: &GridGeometry, rows: &Range<usize>) -> Range<usize> {
-        (self.y0 + rows.start) * g.width..(self.y0 + rows.end) * g.width
+    fn written(
+        &self,
+        g: &GridGeometry,
+        rows: &Range<usize>,
+        cols: &Range<usize>,
+    ) -> Option<Written> {
+        (!rows.is_empty() && !cols.is_empty()).then(|| Written {
+            window: Window {
+                x0: self.x0 + cols.start,
+                y0: self.y0 + rows.start,
+                x1: self.x0 + cols.end - 1,
+                y1: self.y0 + rows.end - 1,
+            },
+            width: g.width,
+        })
     }
 
     /// [`Self::diagram`] drawn into `out`, a [`Gvd::blank`] for the cells
     /// [`Self::written`].
-    fn draw(&self, g: &GridGeometry, passable: &[bool], rows: Range<usize>, mut out: Gvd) -> Gvd {
+    fn draw(
+        &self,
+        g: &GridGeometry,
+        passable: &[bool],
+        rows: Range<usize>,
+        cols: Range<usize>,
+        mut out: Gvd,
+    ) -> Gvd {
+        let Some(written) = out.written else {
+            return out;
+        };
         let w = g.width;
-        let (x0, bw, pw) = (self.x0, self.bw, self.pw());
+        let pw = self.pw();
+        let (x0, x1) = (self.x0 + cols.start, self.x0 + cols.end);
         let (y0, y1) = (self.y0 + rows.start, self.y0 + rows.end);
         let (right, up, d2) = (&self.right, &self.up, &self.features.d2);
         out.skeleton[y0 * w..y1 * w]
@@ -273,12 +319,12 @@ impl Field {
             .enumerate()
             .for_each(|(ry, (row, clear_row))| {
                 let (by, y) = (rows.start + ry, y0 + ry);
-                let src = &d2[(by + 1) * pw + 1..][..bw];
-                for (c, &d) in clear_row[x0..x0 + bw].iter_mut().zip(src) {
+                let src = &d2[(by + 1) * pw + 1 + cols.start..][..cols.len()];
+                for (c, &d) in clear_row[x0..x1].iter_mut().zip(src) {
                     *c = (d as f64).sqrt() as f32;
                 }
-                for (bx, s) in row[x0..x0 + bw].iter_mut().enumerate() {
-                    if !passable[y * w + x0 + bx] {
+                for (bx, s) in cols.clone().zip(&mut row[x0..x1]) {
+                    if !passable[y * w + self.x0 + bx] {
                         continue;
                     }
                     let i = (by + 1) * pw + bx + 1;
@@ -288,7 +334,6 @@ impl Field {
                         || up[i - pw] == PAIR_SECOND;
                 }
             });
-        let written = out.written.clone();
         edge_components(g, passable, &out.skeleton, &mut out.edge_component, written);
         out
     }
@@ -318,12 +363,12 @@ pub fn gvd(knowledge: &OccupancyGrid, trav: &Traversability) -> Gvd {
     // Everything outside the bounding box of the Free cells is an obstacle, so the
     // box plus a one-cell ring (the window) is all that matters.
     let Some((x0, y0, x1, y1)) = knowledge.bounds_of(|c| c == CellState::Free) else {
-        return Gvd::blank(g.len(), 0..0);
+        return Gvd::blank(g.len(), None);
     };
     let kept = SCRATCH.lock().ok().and_then(|mut k| k.take());
     let mut field = kept.unwrap_or_default();
     field.compute(knowledge, (x0, y0, x1 - x0 + 1, y1 - y0 + 1));
-    let out = field.diagram(g, &trav.passable, 0..field.bh);
+    let out = field.diagram(g, &trav.passable, 0..field.bh, 0..field.bw);
     if let Ok(mut kept) = SCRATCH.lock() {
         let larger = kept
             .as_ref()
@@ -495,8 +540,14 @@ impl VoronoiField {
             (Some(a), Some(b)) => a - 1..b,
             _ => 0..0,
         };
+        // Columns outside the known cells' bounds hold obstacles only (the
+        // frame starts at the grid's first column).
+        let cols = match trav.known_bounds() {
+            Some((x0, _, x1, _)) => x0..x1 + 1,
+            None => 0..0,
+        };
         self.field
-            .diagram(knowledge.geometry(), &trav.passable, rows)
+            .diagram(knowledge.geometry(), &trav.passable, rows, cols)
     }
 }
 
@@ -846,18 +897,18 @@ fn components(pw: usize, ph: usize, obstacle: &[bool]) -> Vec<u32> {
 /// are connected where a diagonal step has both cells beside it passable (the
 /// steps the path search takes), written into `label` ([`NONE`] everywhere
 /// before, and left so off the skeleton) for a skeleton within the cells
-/// `within` (indices).
+/// `within`.
 fn edge_components(
     g: &GridGeometry,
     passable: &[bool],
     skeleton: &[bool],
     label: &mut [u32],
-    within: Range<usize>,
+    within: Written,
 ) {
     let (w, h) = (g.width as i64, g.height as i64);
     let mut stack = Vec::new();
     let mut next = 0u32;
-    for start in within {
+    for start in within.rows().flatten() {
         if !skeleton[start] || label[start] != NONE {
             continue;
         }
@@ -1092,13 +1143,16 @@ pub(super) mod tests {
         let (x0, y0, x1, y1) = bounds;
         let mut field = Field::default();
         field.compute(&half, (x0, y0, x1 - x0 + 1, y1 - y0 + 1));
-        let rows = 0..field.bh;
-        let written = field.written(g, &rows);
-        assert!((0..g.len()).any(|i| old.skeleton[i] && !written.contains(&i)));
+        let (rows, cols) = (0..field.bh, 0..field.bw);
+        let written = field.written(g, &rows, &cols);
+        let inside: std::collections::HashSet<usize> =
+            written.iter().flat_map(Written::rows).flatten().collect();
+        assert!((0..g.len()).any(|i| old.skeleton[i] && !inside.contains(&i)));
         let mut old = old;
-        let reused = Gvd::reuse(old.recycle(), written.clone());
-        let reused = field.draw(g, &trav.passable, rows.clone(), reused);
-        let fresh = field.draw(g, &trav.passable, rows, Gvd::fresh(g.len(), written));
+        let reused = Gvd::reuse(old.recycle(), written);
+        let reused = field.draw(g, &trav.passable, rows.clone(), cols.clone(), reused);
+        let fresh = Gvd::fresh(g.len(), written);
+        let fresh = field.draw(g, &trav.passable, rows, cols, fresh);
         assert!(fresh.count() > 0);
         assert_eq!(reused.skeleton, fresh.skeleton);
         assert_eq!(reused.clearance, fresh.clearance);
