@@ -45,7 +45,7 @@ use std::ops::Range;
 use std::sync::Mutex;
 
 use crate::grid::distance::{feature_transform_into, FeatureBuffers};
-use crate::grid::window::Window;
+use crate::grid::window::{Spans, Window};
 use crate::grid::{CellState, GridGeometry, OccupancyGrid, Traversability};
 
 /// Smallest angle, degrees, between the directions to the nearest obstacle cells of
@@ -72,7 +72,7 @@ pub struct Gvd {
     pub edge_component: Vec<u32>,
     /// The cells outside which every cell is off the skeleton with no
     /// clearance: what a recycled diagram has to reset.
-    written: Option<Written>,
+    written: Spans,
 }
 
 impl Gvd {
@@ -84,7 +84,7 @@ impl Gvd {
     /// A diagram of `n` cells with no skeleton and no clearance, whose cells
     /// are to be written in `written`: the buffers of a dropped diagram of the
     /// same size when one is kept, else fresh ones.
-    fn blank(n: usize, written: Option<Written>) -> Self {
+    fn blank(n: usize, written: Spans) -> Self {
         let kept = RECYCLED.lock().ok().and_then(|mut kept| {
             let at = kept.iter().position(|d| d.skeleton.len() == n)?;
             Some(kept.swap_remove(at))
@@ -96,7 +96,7 @@ impl Gvd {
     }
 
     /// [`Self::blank`] in fresh buffers.
-    fn fresh(n: usize, written: Option<Written>) -> Self {
+    fn fresh(n: usize, written: Spans) -> Self {
         Self {
             skeleton: vec![false; n],
             clearance: vec![0.0; n],
@@ -107,11 +107,11 @@ impl Gvd {
 
     /// [`Self::blank`] in the buffers of a dropped diagram, reset where it
     /// wrote.
-    fn reuse(mut d: Recycled, written: Option<Written>) -> Self {
-        for row in d.written.iter().flat_map(Written::rows) {
-            d.skeleton[row.clone()].fill(false);
-            d.edge_component[row.clone()].fill(NONE);
-            d.clearance[row].fill(0.0);
+    fn reuse(mut d: Recycled, written: Spans) -> Self {
+        for &(lo, hi) in d.written.ranges() {
+            d.skeleton[lo..=hi].fill(false);
+            d.edge_component[lo..=hi].fill(NONE);
+            d.clearance[lo..=hi].fill(0.0);
         }
         Self {
             skeleton: d.skeleton,
@@ -127,23 +127,8 @@ impl Gvd {
             skeleton: std::mem::take(&mut self.skeleton),
             clearance: std::mem::take(&mut self.clearance),
             edge_component: std::mem::take(&mut self.edge_component),
-            written: self.written,
+            written: std::mem::take(&mut self.written),
         }
-    }
-}
-
-/// A rectangle of a grid `width` cells wide that a diagram writes.
-#[derive(Debug, Clone, Copy)]
-struct Written {
-    window: Window,
-    width: usize,
-}
-
-impl Written {
-    /// The rectangle's rows, as index ranges.
-    fn rows(&self) -> impl Iterator<Item = Range<usize>> + '_ {
-        let Window { x0, y0, x1, y1 } = self.window;
-        (y0..=y1).map(move |y| y * self.width + x0..y * self.width + x1 + 1)
     }
 }
 
@@ -152,7 +137,7 @@ struct Recycled {
     skeleton: Vec<bool>,
     clearance: Vec<f32>,
     edge_component: Vec<u32>,
-    written: Option<Written>,
+    written: Spans,
 }
 
 /// Dropped diagrams' buffers kept for the next diagrams of their size (at most
@@ -278,21 +263,17 @@ impl Field {
 
     /// The grid cells that [`Self::diagram`] of the frame's `rows` and `cols`
     /// writes.
-    fn written(
-        &self,
-        g: &GridGeometry,
-        rows: &Range<usize>,
-        cols: &Range<usize>,
-    ) -> Option<Written> {
-        (!rows.is_empty() && !cols.is_empty()).then(|| Written {
-            window: Window {
-                x0: self.x0 + cols.start,
-                y0: self.y0 + rows.start,
-                x1: self.x0 + cols.end - 1,
-                y1: self.y0 + rows.end - 1,
-            },
-            width: g.width,
-        })
+    fn written(&self, g: &GridGeometry, rows: &Range<usize>, cols: &Range<usize>) -> Spans {
+        if rows.is_empty() || cols.is_empty() {
+            return Spans::default();
+        }
+        let window = Window {
+            x0: self.x0 + cols.start,
+            y0: self.y0 + rows.start,
+            x1: self.x0 + cols.end - 1,
+            y1: self.y0 + rows.end - 1,
+        };
+        Spans::of(&[window], g.width)
     }
 
     /// [`Self::diagram`] drawn into `out`, a [`Gvd::blank`] for the cells
@@ -305,9 +286,9 @@ impl Field {
         cols: Range<usize>,
         mut out: Gvd,
     ) -> Gvd {
-        let Some(written) = out.written else {
+        if out.written.ranges().is_empty() {
             return out;
-        };
+        }
         let w = g.width;
         let pw = self.pw();
         let (x0, x1) = (self.x0 + cols.start, self.x0 + cols.end);
@@ -334,7 +315,8 @@ impl Field {
                         || up[i - pw] == PAIR_SECOND;
                 }
             });
-        edge_components(g, passable, &out.skeleton, &mut out.edge_component, written);
+        let label = &mut out.edge_component;
+        edge_components(g, passable, &out.skeleton, label, &out.written);
         out
     }
 }
@@ -363,7 +345,7 @@ pub fn gvd(knowledge: &OccupancyGrid, trav: &Traversability) -> Gvd {
     // Everything outside the bounding box of the Free cells is an obstacle, so the
     // box plus a one-cell ring (the window) is all that matters.
     let Some((x0, y0, x1, y1)) = knowledge.bounds_of(|c| c == CellState::Free) else {
-        return Gvd::blank(g.len(), None);
+        return Gvd::blank(g.len(), Spans::default());
     };
     let kept = SCRATCH.lock().ok().and_then(|mut k| k.take());
     let mut field = kept.unwrap_or_default();
@@ -903,12 +885,12 @@ fn edge_components(
     passable: &[bool],
     skeleton: &[bool],
     label: &mut [u32],
-    within: Written,
+    within: &Spans,
 ) {
     let (w, h) = (g.width as i64, g.height as i64);
     let mut stack = Vec::new();
     let mut next = 0u32;
-    for start in within.rows().flatten() {
+    for start in within.ranges().iter().flat_map(|&(lo, hi)| lo..=hi) {
         if !skeleton[start] || label[start] != NONE {
             continue;
         }
@@ -1145,11 +1127,14 @@ pub(super) mod tests {
         field.compute(&half, (x0, y0, x1 - x0 + 1, y1 - y0 + 1));
         let (rows, cols) = (0..field.bh, 0..field.bw);
         let written = field.written(g, &rows, &cols);
-        let inside: std::collections::HashSet<usize> =
-            written.iter().flat_map(Written::rows).flatten().collect();
+        let inside: std::collections::HashSet<usize> = written
+            .ranges()
+            .iter()
+            .flat_map(|&(lo, hi)| lo..=hi)
+            .collect();
         assert!((0..g.len()).any(|i| old.skeleton[i] && !inside.contains(&i)));
         let mut old = old;
-        let reused = Gvd::reuse(old.recycle(), written);
+        let reused = Gvd::reuse(old.recycle(), written.clone());
         let reused = field.draw(g, &trav.passable, rows.clone(), cols.clone(), reused);
         let fresh = Gvd::fresh(g.len(), written);
         let fresh = field.draw(g, &trav.passable, rows, cols, fresh);
