@@ -6,6 +6,8 @@
 //! compared by cross-multiplication in integers, so every distance is the square
 //! root of the exact minimum squared distance.
 
+use std::ops::RangeInclusive;
+
 use rayon::prelude::*;
 
 use crate::grid::GridGeometry;
@@ -105,7 +107,7 @@ impl Breakpoint {
 /// Lower envelope of the parabolas `(x − u)² + g[u]²` over the columns `u` with a
 /// finite `g[u]`, sampled at every column.
 fn envelope(g: &[u32], out: &mut [f32], v: &mut [usize], z: &mut [Breakpoint]) {
-    lower_envelope(g, v, z, |q, p| {
+    lower_envelope(g, v, z, 0..g.len(), |q, p| {
         let dx = q.abs_diff(p) as u64;
         let gp = g[p] as u64;
         out[q] = ((dx * dx + gp * gp) as f64).sqrt() as f32;
@@ -113,13 +115,21 @@ fn envelope(g: &[u32], out: &mut [f32], v: &mut [usize], z: &mut [Breakpoint]) {
 }
 
 /// The lower envelope of the parabolas `(x − u)² + g[u]²` over the columns `u`
-/// with `g[u]` not [`NONE`]: `emit(q, p)` for every column `q`, with `p` the
-/// column whose parabola is lowest at `q` (nothing if every `g[u]` is `NONE`).
-/// `v` and `z` are working buffers of `g.len()` and `g.len() + 1` entries.
+/// with `g[u]` not [`NONE`]: `emit(q, p)` for every column `q` of `columns`, with
+/// `p` the column whose parabola is lowest at `q` (nothing if every `g[u]` is
+/// `NONE`). `v` and `z` are working buffers of `g.len()` and `g.len() + 1`
+/// entries.
+///
+/// Of several lowest parabolas at `q`, `p` is the one of the least column: below
+/// `q` it is the lowest of them (their differences are linear in `x`), so `q` is
+/// the right end of its interval, which the sampling keeps. `p` thus depends only
+/// on the parabolas lowest at `q`, not on the others, which lets a row's update
+/// leave out the parabolas that cannot be lowest where it samples.
 fn lower_envelope(
     g: &[u32],
     v: &mut [usize],
     z: &mut [Breakpoint],
+    columns: std::ops::Range<usize>,
     mut emit: impl FnMut(usize, usize),
 ) {
     let f = |u: usize| {
@@ -163,7 +173,7 @@ fn lower_envelope(
         return;
     }
     k = 0;
-    for q in 0..g.len() {
+    for q in columns {
         while z[k + 1].lt_column(q) {
             k += 1;
         }
@@ -195,6 +205,8 @@ pub(crate) struct FeatureBuffers {
     pub feature: Vec<(u32, u32)>,
     /// Per cell: the squared distance to it.
     pub d2: Vec<u32>,
+    /// Per row: the largest squared distance in it (0 for none).
+    pub row_max: Vec<u32>,
 }
 
 impl FeatureBuffers {
@@ -204,8 +216,8 @@ impl FeatureBuffers {
     }
 }
 
-/// [`feature_transform`] into `out` (its `feature` and `d2`, resized to the
-/// window).
+/// [`feature_transform`] into `out` (its `feature`, `d2` and `row_max`, resized
+/// to the window).
 pub(crate) fn feature_transform_into(
     width: usize,
     height: usize,
@@ -224,14 +236,22 @@ pub(crate) fn feature_transform_into(
     feature.resize(n, (0, 0));
     d2.clear();
     d2.resize(n, 0);
+    let row_max = &mut out.row_max;
+    row_max.clear();
+    row_max.resize(h, 0);
+    if w == 0 {
+        return;
+    }
     feature
         .par_chunks_mut(w)
         .zip(d2.par_chunks_mut(w))
+        .zip(row_max.par_iter_mut())
         .enumerate()
         .for_each_init(
             || RowBuffers::new(w),
-            |buffers, (y, (feat_row, d2_row))| {
-                row_features(y, &near[y * w..][..w], buffers, feat_row, d2_row)
+            |buffers, (y, ((feat_row, d2_row), top))| {
+                row_features(y, &near[y * w..][..w], buffers, feat_row, d2_row);
+                *top = d2_row.iter().copied().max().unwrap_or(0);
             },
         );
 }
@@ -268,6 +288,9 @@ struct RowBuffers {
     g: Vec<u32>,
     v: Vec<usize>,
     z: Vec<Breakpoint>,
+    /// The features and squared distances a row's update computes.
+    feat: Vec<(u32, u32)>,
+    dist: Vec<u32>,
 }
 
 impl RowBuffers {
@@ -276,7 +299,19 @@ impl RowBuffers {
             g: vec![0; w],
             v: vec![0; w],
             z: vec![Breakpoint::MIN; w + 1],
+            feat: Vec::new(),
+            dist: Vec::new(),
         }
+    }
+}
+
+/// The distance `|r − y|` from row `y` to the obstacle row `r` of a column, or
+/// [`NONE`] for a column without one.
+fn column_gap(r: u32, y: usize) -> u32 {
+    if r == NONE {
+        NONE
+    } else {
+        r.abs_diff(y as u32)
     }
 }
 
@@ -289,69 +324,179 @@ fn row_features(
     feat_row: &mut [(u32, u32)],
     d2_row: &mut [u32],
 ) {
-    let RowBuffers { g, v, z } = b;
+    let RowBuffers { g, v, z, .. } = b;
     for (gx, &r) in g.iter_mut().zip(near_row) {
-        *gx = if r == NONE {
-            NONE
-        } else {
-            r.abs_diff(y as u32)
-        };
+        *gx = column_gap(r, y);
     }
-    lower_envelope(g, v, z, |q, p| {
+    lower_envelope(g, v, z, 0..g.len(), |q, p| {
         let dx = q.abs_diff(p) as u32;
         feat_row[q] = (p as u32, near_row[p]);
         d2_row[q] = dx * dx + g[p] * g[p];
     });
 }
 
+/// The row pass of row `y` again after the column pass changed in its columns
+/// `c0..=c1` only (`near_row`: the new column pass; `feat_row`, `d2_row`,
+/// `row_max`: the row's features, squared distances and largest squared
+/// distance before, brought up to date). Returns the first and last column
+/// whose feature or distance changed.
+///
+/// Only cells `q` with `gap(q, c0..=c1)² ≤ d2(q)` can change: a changed column
+/// farther away than the old distance is not lowest at `q`, before or after, and
+/// the parabolas lowest at `q` decide its feature ([`lower_envelope`]). They lie
+/// within `row_max`'s square root of `c0..=c1`. A cell `q`'s new nearest column
+/// lies within `|near_row[q] − y|` of it (its own column holds an obstacle that
+/// near), so the envelope over those columns around the changed cells decides
+/// them. Every column outside is left out.
+fn row_update(
+    y: usize,
+    near_row: &[u32],
+    (c0, c1): (usize, usize),
+    b: &mut RowBuffers,
+    (feat_row, d2_row, row_max): (&mut [(u32, u32)], &mut [u32], &mut u32),
+) -> Option<(usize, usize)> {
+    let w = near_row.len();
+    let reach = (*row_max as f64).sqrt() as usize + 1;
+    let (lo, hi) = (
+        c0.saturating_sub(reach),
+        c1.saturating_add(reach).min(w - 1),
+    );
+    let gap = |q: usize| q.abs_diff(q.clamp(c0, c1)) as u64;
+    let affected = |q: &usize| gap(*q).pow(2) <= d2_row[*q] as u64;
+    let qa = (lo..=hi).find(affected)?;
+    let qb = (qa..=hi).rfind(affected)?;
+    let around = (qa..=qb)
+        .map(|q| column_gap(near_row[q], y))
+        .max()
+        .filter(|&m| m != NONE)
+        .map_or(w, |m| m as usize);
+    let (ua, ub) = (
+        qa.saturating_sub(around),
+        qb.saturating_add(around).min(w - 1),
+    );
+    let n = ub - ua + 1;
+    let RowBuffers {
+        g,
+        v,
+        z,
+        feat,
+        dist,
+    } = b;
+    for (gx, &r) in g[..n].iter_mut().zip(&near_row[ua..=ub]) {
+        *gx = column_gap(r, y);
+    }
+    feat.clear();
+    feat.extend_from_slice(&feat_row[qa..=qb]);
+    dist.clear();
+    dist.extend_from_slice(&d2_row[qa..=qb]);
+    let g = &g[..n];
+    lower_envelope(
+        g,
+        &mut v[..n],
+        &mut z[..=n],
+        qa - ua..qb - ua + 1,
+        |q, p| {
+            let dx = q.abs_diff(p) as u32;
+            feat[q + ua - qa] = ((p + ua) as u32, near_row[p + ua]);
+            dist[q + ua - qa] = dx * dx + g[p] * g[p];
+        },
+    );
+    let differs = |j: &usize| feat[*j] != feat_row[qa + j] || dist[*j] != d2_row[qa + j];
+    let first = (0..feat.len()).find(differs)?;
+    let last = (0..feat.len()).rfind(differs)?;
+    let old_top = d2_row[qa + first..=qa + last]
+        .iter()
+        .copied()
+        .max()
+        .unwrap_or(0);
+    feat_row[qa + first..=qa + last].copy_from_slice(&feat[first..=last]);
+    d2_row[qa + first..=qa + last].copy_from_slice(&dist[first..=last]);
+    let new_top = dist[first..=last].iter().copied().max().unwrap_or(0);
+    *row_max = if new_top >= *row_max {
+        new_top
+    } else if old_top < *row_max {
+        *row_max // the largest lies outside what changed
+    } else {
+        d2_row.iter().copied().max().unwrap_or(0)
+    };
+    Some((qa + first, qa + last))
+}
+
 impl FeatureBuffers {
     /// Brings the transform of a `width × height` window (computed by
     /// [`feature_transform_into`]) up to date after `obstacle` changed only in the
-    /// columns `columns`: the column pass is redone in those columns, and the row
-    /// pass in the rows where it changed. Appends to `changes` every row whose
-    /// features changed, with the first and last column that did, `(row, x0,
-    /// x1)`, rows in increasing order.
+    /// rectangle of `columns` and `rows`: the column pass is redone in those
+    /// columns, between the obstacles above and below the rectangle, and the row
+    /// pass in the rows where it changed, around the columns where it did
+    /// ([`row_update`]). Appends to `changes` every row whose features changed,
+    /// with the first and last column that did, `(row, x0, x1)`, rows in
+    /// increasing order.
     pub fn update(
         &mut self,
         width: usize,
         height: usize,
         obstacle: &[bool],
-        columns: std::ops::RangeInclusive<usize>,
+        (columns, rows): (RangeInclusive<usize>, RangeInclusive<usize>),
         changes: &mut Vec<(usize, usize, usize)>,
     ) {
         let (w, h) = (width, height);
         let (x0, x1) = (*columns.start(), (*columns.end()).min(w.saturating_sub(1)));
-        if x0 > x1 || h == 0 {
+        let (ya, yb) = (*rows.start(), (*rows.end()).min(h.saturating_sub(1)));
+        if x0 > x1 || ya > yb {
             return;
         }
         let cw = x1 - x0 + 1;
-        let mut fresh = vec![NONE; cw * h];
-        nearest_rows(w, h, obstacle, x0, cw, &mut fresh);
-        let mut rows = vec![false; h];
-        for (y, new) in fresh.chunks_exact(cw).enumerate() {
+        // Per column: the obstacle rows just above and below the rectangle (or
+        // the window's edge). A cell outside them keeps its nearest obstacle row.
+        let solid = |x: usize| move |y: &usize| obstacle[*y * w + x];
+        let above: Vec<usize> = (x0..=x1)
+            .map(|x| (0..ya).rfind(solid(x)).unwrap_or(0))
+            .collect();
+        let below: Vec<usize> = (x0..=x1)
+            .map(|x| (yb + 1..h).find(solid(x)).unwrap_or(h - 1))
+            .collect();
+        let (t, b) = match (above.iter().min(), below.iter().max()) {
+            (Some(&t), Some(&b)) => (t, b),
+            _ => return,
+        };
+        let mut fresh = vec![NONE; cw * (b - t + 1)];
+        nearest_rows(
+            w,
+            b - t + 1,
+            &obstacle[t * w..(b + 1) * w],
+            x0,
+            cw,
+            &mut fresh,
+        );
+        // Per row: the first and last column whose column pass changed.
+        let mut spans: Vec<Option<(usize, usize)>> = vec![None; h];
+        for (y, new) in (t..=b).zip(fresh.chunks_exact(cw)) {
             let old = &mut self.near[y * w + x0..][..cw];
-            if old != new {
-                old.copy_from_slice(new);
-                rows[y] = true;
+            let mut span: Option<(usize, usize)> = None;
+            for (j, (o, &n)) in old.iter_mut().zip(new).enumerate() {
+                let n = if n == NONE { NONE } else { n + t as u32 };
+                if (above[j]..=below[j]).contains(&y) && *o != n {
+                    *o = n;
+                    span = Some(span.map_or((x0 + j, x0 + j), |(a, _)| (a, x0 + j)));
+                }
             }
+            spans[y] = span;
         }
         let near = &self.near;
         let found: Vec<(usize, usize, usize)> = self
             .feature
             .par_chunks_mut(w)
             .zip(self.d2.par_chunks_mut(w))
+            .zip(self.row_max.par_iter_mut())
+            .zip(spans.par_iter())
             .enumerate()
-            .filter(|(y, _)| rows[*y])
+            .filter_map(|(y, (rows, span))| span.map(|s| (y, rows, s)))
             .map_init(
-                || (RowBuffers::new(w), vec![(0, 0); w], vec![0; w]),
-                |(buffers, feat, dist), (y, (feat_row, d2_row))| {
-                    row_features(y, &near[y * w..][..w], buffers, feat, dist);
-                    let differs = |x: &usize| feat[*x] != feat_row[*x] || dist[*x] != d2_row[*x];
-                    let first = (0..w).find(differs)?;
-                    let last = (0..w).rfind(differs)?;
-                    feat_row[first..=last].copy_from_slice(&feat[first..=last]);
-                    d2_row[first..=last].copy_from_slice(&dist[first..=last]);
-                    Some((y, first, last))
+                || RowBuffers::new(w),
+                |buffers, (y, ((feat_row, d2_row), top), span)| {
+                    let near_row = &near[y * w..][..w];
+                    let (a, b) = row_update(y, near_row, span, buffers, (feat_row, d2_row, top))?;
+                    Some((y, a, b))
                 },
             )
             .flatten()
@@ -385,6 +530,51 @@ mod tests {
                 prop_assert!(obstacle[fy as usize * w + fx as usize]);
                 prop_assert_eq!((x - fx as i64).pow(2) + (y - fy as i64).pow(2), best);
             }
+        }
+
+        /// An update after changes in a rectangle gives the features, the
+        /// distances and the row maxima of a fresh transform, and reports exactly
+        /// the rows and column spans that changed.
+        #[test]
+        fn update_equals_a_fresh_transform(
+            w in 1usize..40,
+            h in 2usize..24,
+            before in proptest::collection::vec(0u8..5, 960),
+            after in proptest::collection::vec(0u8..5, 960),
+            a in 0usize..40,
+            span in 0usize..12,
+            r in 0usize..24,
+            rise in 0usize..8,
+        ) {
+            // The top row is solid, so every column holds an obstacle.
+            let solid = |bits: &[u8], i: usize| bits[i] == 0 || i / w == h - 1;
+            let old: Vec<bool> = (0..w * h).map(|i| solid(&before, i)).collect();
+            let (x0, x1) = (a % w, (a % w + span).min(w - 1));
+            let (y0, y1) = (r % h, (r % h + rise).min(h - 1));
+            let inside = |i: usize| (x0..=x1).contains(&(i % w)) && (y0..=y1).contains(&(i / w));
+            let new: Vec<bool> = (0..w * h)
+                .map(|i| if inside(i) { solid(&after, i) } else { old[i] })
+                .collect();
+            let mut kept = FeatureBuffers::default();
+            feature_transform_into(w, h, &old, &mut kept);
+            let (was_feature, was_d2) = (kept.feature.clone(), kept.d2.clone());
+            let mut changes = Vec::new();
+            kept.update(w, h, &new, (x0..=x1, y0..=y1), &mut changes);
+            let mut fresh = FeatureBuffers::default();
+            feature_transform_into(w, h, &new, &mut fresh);
+            prop_assert_eq!(&kept.feature, &fresh.feature);
+            prop_assert_eq!(&kept.d2, &fresh.d2);
+            prop_assert_eq!(&kept.row_max, &fresh.row_max);
+            let expected: Vec<(usize, usize, usize)> = (0..h)
+                .filter_map(|y| {
+                    let differs = |x: &usize| {
+                        let i = y * w + x;
+                        was_feature[i] != fresh.feature[i] || was_d2[i] != fresh.d2[i]
+                    };
+                    Some((y, (0..w).find(differs)?, (0..w).rfind(differs)?))
+                })
+                .collect();
+            prop_assert_eq!(changes, expected);
         }
 
         #[test]

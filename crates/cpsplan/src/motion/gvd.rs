@@ -382,8 +382,6 @@ pub fn gvd(knowledge: &OccupancyGrid, trav: &Traversability) -> Gvd {
 #[derive(Debug)]
 pub struct VoronoiField {
     field: Field,
-    /// Per padded row: the largest squared distance to an obstacle cell in it.
-    row_max: Vec<u32>,
 }
 
 impl VoronoiField {
@@ -392,13 +390,7 @@ impl VoronoiField {
         let g = knowledge.geometry();
         let mut field = Field::default();
         field.compute(knowledge, (0, 0, g.width, g.height));
-        let row_max = field
-            .features
-            .d2
-            .chunks_exact(field.pw())
-            .map(largest)
-            .collect();
-        Self { field, row_max }
+        Self { field }
     }
 
     /// Brings the field up to date after the cells `changed` of `knowledge`
@@ -429,11 +421,13 @@ impl VoronoiField {
             f.obstacle[p] = !f.obstacle[p];
         }
         let mut changes = Vec::new();
-        f.features
-            .update(pw, ph, &f.obstacle, flips.x0..=flips.x1, &mut changes);
-        for &(y, _, _) in &changes {
-            self.row_max[y] = largest(&f.features.d2[y * pw..][..pw]);
-        }
+        f.features.update(
+            pw,
+            ph,
+            &f.obstacle,
+            (flips.x0..=flips.x1, flips.y0..=flips.y1),
+            &mut changes,
+        );
         f.components.label(pw, ph, &f.obstacle);
         let new_label = window_of(&f.components.label, around, pw);
         let kept: Vec<(u32, u32)> = old
@@ -481,11 +475,14 @@ impl VoronoiField {
             let Some(b) = components.bounds_of(&minor) else {
                 return;
             };
-            let reach = largest(&self.row_max);
+            let row_max = &features.row_max;
+            let reach = largest(row_max);
             let reach = (reach as f64).sqrt() as usize + 1;
-            for y in b.y0.saturating_sub(reach)..=(b.y1 + reach).min(ph - 1) {
+            let rows = b.y0.saturating_sub(reach)..=(b.y1 + reach).min(ph - 1);
+            let reached = row_max.iter().enumerate().take(rows.end() + 1);
+            for (y, &room) in reached.skip(*rows.start()) {
                 let dy = b.y0.saturating_sub(y).max(y.saturating_sub(b.y1)) as u64;
-                let room = self.row_max[y] as u64;
+                let room = room as u64;
                 if dy * dy > room {
                     continue;
                 }
@@ -514,10 +511,11 @@ impl VoronoiField {
     pub fn diagram(&self, knowledge: &OccupancyGrid, trav: &Traversability) -> Gvd {
         // Rows of obstacle cells only have no skeleton and no clearance; the
         // padded rows with a positive distance are the frame's rows + 1.
-        let open = |y: &usize| self.row_max[*y] > 0;
+        let row_max = &self.field.features.row_max;
+        let open = |y: &usize| row_max[*y] > 0;
         let rows = match (
-            (0..self.row_max.len()).find(open),
-            (0..self.row_max.len()).rfind(open),
+            (0..row_max.len()).find(open),
+            (0..row_max.len()).rfind(open),
         ) {
             (Some(a), Some(b)) => a - 1..b,
             _ => 0..0,

@@ -3,6 +3,11 @@
 
 use rand::RngExt;
 use rand_chacha::ChaCha8Rng;
+use rayon::prelude::*;
+
+/// Samples per parallel piece of the assignment step (below it a piece is not
+/// worth a thread).
+const ASSIGN_CHUNK: usize = 512;
 
 /// The result of clustering.
 #[derive(Debug, Clone, PartialEq)]
@@ -59,14 +64,17 @@ pub fn kmeans(
     let mut assignment = vec![usize::MAX; points.len()];
     let mut sums = vec![[0.0f64; 3]; k];
     for _ in 0..iterations {
-        let mut changed = false;
-        for (a, &p) in assignment.iter_mut().zip(points) {
-            let best = nearest(&centroids, p);
-            if *a != best {
-                *a = best;
-                changed = true;
-            }
-        }
+        // Each sample's nearest centroid on its own, so in parallel: the same
+        // assignment in any order.
+        let changed = assignment
+            .par_iter_mut()
+            .zip(points.par_iter())
+            .with_min_len(ASSIGN_CHUNK)
+            .map(|(a, &p)| {
+                let best = nearest(&centroids, p);
+                std::mem::replace(a, best) != best
+            })
+            .reduce(|| false, |x, y| x | y);
         if !changed {
             break;
         }
