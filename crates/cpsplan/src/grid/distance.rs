@@ -6,7 +6,7 @@
 //! compared by cross-multiplication in integers, so every distance is the square
 //! root of the exact minimum squared distance.
 
-use std::ops::RangeInclusive;
+use std::ops::{Range, RangeInclusive};
 
 use rayon::prelude::*;
 
@@ -129,7 +129,7 @@ fn lower_envelope(
     g: &[u32],
     v: &mut [usize],
     z: &mut [Breakpoint],
-    columns: std::ops::Range<usize>,
+    columns: Range<usize>,
     mut emit: impl FnMut(usize, usize),
 ) {
     let f = |u: usize| {
@@ -248,9 +248,9 @@ pub(crate) fn feature_transform_into(
         .zip(row_max.par_iter_mut())
         .enumerate()
         .for_each_init(
-            || RowBuffers::new(w),
+            || EnvelopeBuffers::new(w),
             |buffers, (y, ((feat_row, d2_row), top))| {
-                row_features(y, &near[y * w..][..w], buffers, feat_row, d2_row);
+                row_features(y, &near[y * w..][..w], 0, 0..w, buffers, feat_row, d2_row);
                 *top = d2_row.iter().copied().max().unwrap_or(0);
             },
         );
@@ -283,12 +283,27 @@ fn nearest_rows(w: usize, h: usize, obstacle: &[bool], x0: usize, cw: usize, out
     }
 }
 
-/// Working buffers of one row of the row pass.
-struct RowBuffers {
+/// Working buffers of the lower envelope over a row of `w` columns.
+struct EnvelopeBuffers {
     g: Vec<u32>,
     v: Vec<usize>,
     z: Vec<Breakpoint>,
-    /// The features and squared distances a row's update computes.
+}
+
+impl EnvelopeBuffers {
+    fn new(w: usize) -> Self {
+        Self {
+            g: vec![0; w],
+            v: vec![0; w],
+            z: vec![Breakpoint::MIN; w + 1],
+        }
+    }
+}
+
+/// Working buffers of one row's update.
+struct RowBuffers {
+    envelope: EnvelopeBuffers,
+    /// The features and squared distances the update computes.
     feat: Vec<(u32, u32)>,
     dist: Vec<u32>,
 }
@@ -296,9 +311,7 @@ struct RowBuffers {
 impl RowBuffers {
     fn new(w: usize) -> Self {
         Self {
-            g: vec![0; w],
-            v: vec![0; w],
-            z: vec![Breakpoint::MIN; w + 1],
+            envelope: EnvelopeBuffers::new(w),
             feat: Vec::new(),
             dist: Vec::new(),
         }
@@ -315,23 +328,29 @@ fn column_gap(r: u32, y: usize) -> u32 {
     }
 }
 
-/// The row pass of row `y`: from the column pass's rows `near_row`, every cell's
-/// nearest obstacle cell and squared distance.
+/// The row pass of row `y` over its columns `base..base + near.len()` (`near`:
+/// their column pass), sampled at the columns `base + q` for `q` in `columns`:
+/// each one's nearest obstacle cell among those columns into `feat`, and its
+/// squared distance into `d2`, both from index 0.
 fn row_features(
     y: usize,
-    near_row: &[u32],
-    b: &mut RowBuffers,
-    feat_row: &mut [(u32, u32)],
-    d2_row: &mut [u32],
+    near: &[u32],
+    base: usize,
+    columns: Range<usize>,
+    e: &mut EnvelopeBuffers,
+    feat: &mut [(u32, u32)],
+    d2: &mut [u32],
 ) {
-    let RowBuffers { g, v, z, .. } = b;
-    for (gx, &r) in g.iter_mut().zip(near_row) {
+    let n = near.len();
+    for (gx, &r) in e.g[..n].iter_mut().zip(near) {
         *gx = column_gap(r, y);
     }
-    lower_envelope(g, v, z, 0..g.len(), |q, p| {
+    let g = &e.g[..n];
+    let first = columns.start;
+    lower_envelope(g, &mut e.v[..n], &mut e.z[..=n], columns, |q, p| {
         let dx = q.abs_diff(p) as u32;
-        feat_row[q] = (p as u32, near_row[p]);
-        d2_row[q] = dx * dx + g[p] * g[p];
+        feat[q - first] = ((p + base) as u32, near[p]);
+        d2[q - first] = dx * dx + g[p] * g[p];
     });
 }
 
@@ -374,33 +393,17 @@ fn row_update(
         qa.saturating_sub(around),
         qb.saturating_add(around).min(w - 1),
     );
-    let n = ub - ua + 1;
     let RowBuffers {
-        g,
-        v,
-        z,
+        envelope,
         feat,
         dist,
     } = b;
-    for (gx, &r) in g[..n].iter_mut().zip(&near_row[ua..=ub]) {
-        *gx = column_gap(r, y);
-    }
     feat.clear();
     feat.extend_from_slice(&feat_row[qa..=qb]);
     dist.clear();
     dist.extend_from_slice(&d2_row[qa..=qb]);
-    let g = &g[..n];
-    lower_envelope(
-        g,
-        &mut v[..n],
-        &mut z[..=n],
-        qa - ua..qb - ua + 1,
-        |q, p| {
-            let dx = q.abs_diff(p) as u32;
-            feat[q + ua - qa] = ((p + ua) as u32, near_row[p + ua]);
-            dist[q + ua - qa] = dx * dx + g[p] * g[p];
-        },
-    );
+    let (window, columns) = (&near_row[ua..=ub], qa - ua..qb - ua + 1);
+    row_features(y, window, ua, columns, envelope, feat, dist);
     let differs = |j: &usize| feat[*j] != feat_row[qa + j] || dist[*j] != d2_row[qa + j];
     let first = (0..feat.len()).find(differs)?;
     let last = (0..feat.len()).rfind(differs)?;
