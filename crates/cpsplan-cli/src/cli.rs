@@ -38,6 +38,59 @@ pub enum Command {
     /// The known-map yardstick: how few scan stations cover the map when it is
     /// known beforehand (greedy set cover and an LP lower bound).
     Bound(BoundArgs),
+    /// Run the episodes of an experiment file in parallel, one record each as it
+    /// finishes (`experiment merge` joins the directories of its shards).
+    Experiment(ExperimentArgs),
+}
+
+/// Options of `cpsplan experiment`.
+#[derive(Debug, Args)]
+#[command(args_conflicts_with_subcommands = true, subcommand_negates_reqs = true)]
+pub struct ExperimentArgs {
+    /// `merge`: join the directories of an experiment's shards.
+    #[command(subcommand)]
+    pub command: Option<ExperimentCommand>,
+    /// The experiment file: maps × starts × parameter sets × planners × child
+    /// strategies × instruments × seeds (docs/USER-GUIDE.md "Experiments").
+    #[arg(value_name = "FILE.toml", required = true)]
+    pub file: Option<PathBuf>,
+    /// Directory of the records: experiment.toml, plan.json, records/NNNNNN.json
+    /// (one per episode, written as it finishes), episodes.csv.
+    #[arg(long, value_name = "DIR", required = true)]
+    pub out: Option<PathBuf>,
+    /// Continue the experiment in --out: run only the episodes without a whole
+    /// record (a damaged one is redone).
+    #[arg(long)]
+    pub resume: bool,
+    /// Run only the K-th of N slices of the episodes (1 ≤ K ≤ N: those whose
+    /// number leaves the remainder K − 1 when divided by N).
+    #[arg(long, value_name = "K/N")]
+    pub shard: Option<crate::experiment::Shard>,
+    /// Episodes run at once [default: the number of cores].
+    #[arg(long, value_name = "N", value_parser = parse_count)]
+    pub jobs: Option<usize>,
+    /// Print nothing but errors.
+    #[arg(long)]
+    pub quiet: bool,
+}
+
+/// The subcommands of `cpsplan experiment`.
+#[derive(Debug, Subcommand)]
+pub enum ExperimentCommand {
+    /// Join the records of an experiment's shard directories into one directory;
+    /// refuses duplicate or missing episodes.
+    Merge(MergeArgs),
+}
+
+/// Options of `cpsplan experiment merge`.
+#[derive(Debug, Args)]
+pub struct MergeArgs {
+    /// The shards' directories (the --out of each `experiment --shard K/N`).
+    #[arg(value_name = "DIR", required = true)]
+    pub dirs: Vec<PathBuf>,
+    /// The merged directory (new or empty).
+    #[arg(long, value_name = "DIR")]
+    pub out: PathBuf,
 }
 
 /// Options of `cpsplan bound`.
@@ -507,7 +560,18 @@ where
         .iter()
         .skip(1)
         .filter_map(|a| a.to_str())
-        .find(|a| ["explore", "plan", "maps", "instruments"].contains(a))
+        .find(|a| {
+            [
+                "explore",
+                "plan",
+                "maps",
+                "instruments",
+                "grid",
+                "bound",
+                "experiment",
+            ]
+            .contains(a)
+        })
         .map_or_else(|| "cpsplan".to_string(), |c| format!("cpsplan {c}"));
     match Cli::try_parse_from(args) {
         Ok(cli) => Ok(cli),
@@ -573,6 +637,7 @@ pub fn run() -> Result<()> {
         Command::Instruments => commands::instruments::run(),
         Command::Grid(args) => commands::grid::run(&args),
         Command::Bound(args) => commands::bound::run(&args),
+        Command::Experiment(args) => commands::experiment::run(&args),
     }
 }
 

@@ -2,6 +2,7 @@
 
 pub mod cli;
 pub mod commands;
+pub mod experiment;
 pub mod formats;
 pub mod render;
 pub mod report;

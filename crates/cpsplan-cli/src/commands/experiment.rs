@@ -1,0 +1,349 @@
+//! `cpsplan experiment`: the episodes of an experiment file, in parallel, one
+//! record each as it finishes; and `cpsplan experiment merge`, which joins the
+//! directories of an experiment's shards.
+
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::sync::{Arc, Mutex};
+use std::time::Instant;
+
+use anyhow::{anyhow, bail, Context, Result};
+use cpsplan::world::{default_start, resample_for};
+use cpsplan::{run_episode_with, OccupancyGrid, Point};
+use indicatif::{ProgressBar, ProgressStyle};
+
+use super::{check_memory, load_planning_grid};
+use crate::cli::{ExperimentArgs, ExperimentCommand, MergeArgs};
+use crate::experiment::store::{record_name, CSV_FILE, PLAN_FILE, RECORDS_DIR, SPEC_FILE};
+use crate::experiment::{
+    parse_plan, EpisodeRecord, EpisodeSpec, ExperimentDir, Outcome, PlanFile, Shard,
+};
+use crate::formats::rosmap::{read_text, ReadLimits};
+use crate::report::{write_atomic, ReportDir};
+
+/// Runs `cpsplan experiment` or its `merge`.
+pub fn run(args: &ExperimentArgs) -> Result<()> {
+    if let Some(ExperimentCommand::Merge(m)) = &args.command {
+        return merge(m);
+    }
+    let (Some(file), Some(out)) = (&args.file, &args.out) else {
+        bail!("an experiment needs FILE.toml and --out DIR");
+    };
+    let text = read_text(file, ReadLimits::default().max_text_bytes)?;
+    let plan = parse_plan(&text, file)?;
+    let name = plan.name.clone();
+    let shard = args.shard.unwrap_or(Shard::WHOLE);
+    let experiment_dir = file
+        .parent()
+        .filter(|p| !p.as_os_str().is_empty())
+        .unwrap_or(Path::new("."));
+    // Every map of the shard loaded, and every run's memory checked, before
+    // anything is written.
+    let mine: Vec<&EpisodeSpec> = plan
+        .episodes
+        .iter()
+        .filter(|e| shard.holds(e.index))
+        .collect();
+    let maps = MapFiles::load(&mine, experiment_dir)?;
+    let total = plan.episodes.len();
+    let mine: Vec<EpisodeSpec> = mine.into_iter().cloned().collect();
+    let dir = if args.resume {
+        ExperimentDir::resume(out, plan, shard)?
+    } else {
+        ExperimentDir::create(out, &text, plan, shard)?
+    };
+    let records = dir.records()?;
+    for (path, why) in &records.damaged {
+        if !args.quiet {
+            eprintln!("redoing {}: {why}", path.display());
+        }
+        std::fs::remove_file(path).with_context(|| format!("cannot remove {}", path.display()))?;
+    }
+    let todo: Vec<&EpisodeSpec> = mine
+        .iter()
+        .filter(|e| !records.valid.contains_key(&e.index))
+        .collect();
+    let before = mine.len() - todo.len();
+    let jobs = args
+        .jobs
+        .unwrap_or_else(rayon::current_num_threads)
+        .clamp(1, todo.len().max(1));
+    let bar = if args.quiet {
+        ProgressBar::hidden()
+    } else {
+        let bar = ProgressBar::new(todo.len() as u64);
+        if let Ok(style) = ProgressStyle::with_template(
+            "{elapsed_precise} [{bar:30}] {pos}/{len} episodes, eta {eta} {msg}",
+        ) {
+            bar.set_style(style.progress_chars("=> "));
+        }
+        bar
+    };
+    let next = AtomicUsize::new(0);
+    let stop = AtomicBool::new(false);
+    let failures: Mutex<Vec<(String, String)>> = Mutex::new(Vec::new());
+    let write_error: Mutex<Option<anyhow::Error>> = Mutex::new(None);
+    std::thread::scope(|s| {
+        for _ in 0..jobs {
+            s.spawn(|| loop {
+                let i = next.fetch_add(1, Ordering::Relaxed);
+                if i >= todo.len() || stop.load(Ordering::Relaxed) {
+                    break;
+                }
+                let spec = todo[i];
+                let record = run_one(&name, spec, &maps, experiment_dir);
+                if let Outcome::Failed { error } = &record.outcome {
+                    if let Ok(mut f) = failures.lock() {
+                        f.push((spec.label.clone(), error.clone()));
+                    }
+                }
+                if let Err(e) = dir.write_record(&record) {
+                    if let Ok(mut w) = write_error.lock() {
+                        w.get_or_insert(e);
+                    }
+                    stop.store(true, Ordering::Relaxed);
+                    break;
+                }
+                bar.set_message(spec.label.clone());
+                bar.inc(1);
+            });
+        }
+    });
+    bar.finish_and_clear();
+    if let Some(e) = write_error.into_inner().ok().flatten() {
+        return Err(e);
+    }
+    let records = dir.records()?;
+    dir.write_csv(records.valid.values().map(|(_, r)| r))?;
+    let failures = failures.into_inner().unwrap_or_default();
+    if !args.quiet {
+        let of = if shard == Shard::WHOLE {
+            format!("{total} episodes")
+        } else {
+            format!(
+                "the {} episodes of shard {shard} ({total} in all)",
+                mine.len()
+            )
+        };
+        println!(
+            "experiment `{}`: {} run, {before} done before, of {of}; records in {}",
+            dir.file.plan.name,
+            todo.len(),
+            dir.root().join(RECORDS_DIR).display()
+        );
+    }
+    if let Some((label, error)) = failures.first() {
+        bail!(
+            "{} of {} episodes could not run (their records say why); the first, {label}: {error}",
+            failures.len(),
+            todo.len()
+        );
+    }
+    Ok(())
+}
+
+/// The map files of an experiment, each loaded once at every planning
+/// resolution and cell limit its episodes use.
+struct MapFiles {
+    grids: HashMap<(PathBuf, u64, usize), Arc<OccupancyGrid>>,
+}
+
+impl MapFiles {
+    /// Loads every map file `episodes` name, checking that each episode's run
+    /// fits in memory, before any episode runs.
+    fn load(episodes: &[&EpisodeSpec], experiment_dir: &Path) -> Result<Self> {
+        let mut grids = HashMap::new();
+        for e in episodes {
+            if let Some(Err(message)) = e.builtin() {
+                bail!("episode {}: {message}", e.label);
+            }
+            let Some(path) = e.map_path(experiment_dir) else {
+                continue;
+            };
+            let key = Self::key(&path, e);
+            if !grids.contains_key(&key) {
+                let grid = load_planning_grid(&path, &e.config)?;
+                grids.insert(key.clone(), Arc::new(grid));
+            }
+            check_memory(&grids[&key], &e.config)
+                .with_context(|| format!("episode {}", e.label))?;
+        }
+        Ok(Self { grids })
+    }
+
+    fn key(path: &Path, e: &EpisodeSpec) -> (PathBuf, u64, usize) {
+        (
+            path.to_path_buf(),
+            e.config.resolution.to_bits(),
+            e.config.limits.max_grid_cells,
+        )
+    }
+
+    /// The ground truth of episode `e` and its start.
+    fn truth(&self, e: &EpisodeSpec, experiment_dir: &Path) -> Result<(Arc<OccupancyGrid>, Point)> {
+        let (grid, own_start) = match e.builtin() {
+            Some(map) => {
+                let map = map.map_err(|m| anyhow!(m))?;
+                let grid = resample_for(&map.generate(e.config.seed), &e.config)
+                    .map_err(|err| anyhow!("built-in map `{}`: {err}", map.name()))?;
+                (Arc::new(grid), Some(map.default_start()))
+            }
+            None => {
+                let path = e.map_path(experiment_dir).unwrap_or_default();
+                let grid = self
+                    .grids
+                    .get(&Self::key(&path, e))
+                    .cloned()
+                    .ok_or_else(|| anyhow!("map {} was not loaded", path.display()))?;
+                (grid, None)
+            }
+        };
+        let start = match e.start.or(own_start) {
+            Some(p) => p,
+            None => default_start(&grid)
+                .ok_or_else(|| anyhow!("map {} has no free cell to start from", e.map))?,
+        };
+        Ok((grid, start))
+    }
+}
+
+/// Runs one episode into its record.
+fn run_one(experiment: &str, spec: &EpisodeSpec, maps: &MapFiles, dir: &Path) -> EpisodeRecord {
+    let t0 = Instant::now();
+    let result = maps.truth(spec, dir).and_then(|(truth, start)| {
+        let episode = run_episode_with(&truth, start, &spec.config, |_, _| {})?;
+        Ok((start, episode))
+    });
+    let wall_ms = t0.elapsed().as_secs_f64() * 1e3;
+    match result {
+        Ok((start, episode)) => EpisodeRecord::finished(experiment, spec, start, &episode, wall_ms),
+        Err(e) => EpisodeRecord::failed(experiment, spec, crate::cli::one_line(&e), wall_ms),
+    }
+}
+
+/// `cpsplan experiment merge DIR... --out DIR`.
+fn merge(args: &MergeArgs) -> Result<()> {
+    let dirs: Vec<ExperimentDir> = args
+        .dirs
+        .iter()
+        .map(|d| ExperimentDir::open(d))
+        .collect::<Result<_>>()?;
+    let Some(first) = dirs.first() else {
+        bail!("merge needs at least one experiment directory");
+    };
+    let mut seen: Vec<PathBuf> = Vec::new();
+    for d in &dirs {
+        let real = std::fs::canonicalize(d.root()).unwrap_or_else(|_| d.root().to_path_buf());
+        if seen.contains(&real) {
+            bail!(
+                "{} is given twice: merge each shard once",
+                d.root().display()
+            );
+        }
+        seen.push(real);
+    }
+    let plan = serde_json::to_value(&first.file.plan)?;
+    for d in &dirs[1..] {
+        if serde_json::to_value(&d.file.plan)? != plan {
+            bail!(
+                "{} and {} hold different experiments (their {PLAN_FILE} differ): \
+                 merge only the shards of one experiment file",
+                first.root().display(),
+                d.root().display()
+            );
+        }
+    }
+    let episodes = &first.file.plan.episodes;
+    let mut found: Vec<Option<(PathBuf, EpisodeRecord)>> = vec![None; episodes.len()];
+    for d in &dirs {
+        let records = d.records()?;
+        if let Some((path, why)) = records.damaged.first() {
+            bail!(
+                "{}: {why}; `experiment {SPEC_FILE} --out {} --resume` with its --shard redoes it",
+                path.display(),
+                d.root().display()
+            );
+        }
+        for (index, (path, record)) in records.valid {
+            if let Some((other, _)) = &found[index] {
+                bail!(
+                    "episode {index} ({}) is in both {} and {}: merge each shard once",
+                    episodes[index].label,
+                    other.display(),
+                    path.display()
+                );
+            }
+            found[index] = Some((path, record));
+        }
+    }
+    let missing: Vec<&EpisodeSpec> = episodes
+        .iter()
+        .filter(|e| found[e.index].is_none())
+        .collect();
+    if let Some(e) = missing.first() {
+        let shards: Vec<String> = dirs
+            .iter()
+            .filter_map(|d| d.file.shard)
+            .map(|s| s.to_string())
+            .collect();
+        bail!(
+            "{} of {} episodes have no record, the first {} ({}); the directories hold shards {}: \
+             run the missing shards, or --resume the unfinished ones",
+            missing.len(),
+            episodes.len(),
+            e.index,
+            e.label,
+            if shards.is_empty() {
+                "(merged)".into()
+            } else {
+                shards.join(", ")
+            }
+        );
+    }
+    if let Ok(mut entries) = std::fs::read_dir(&args.out) {
+        if entries.next().is_some() {
+            bail!(
+                "--out {} already holds files; choose a new directory",
+                args.out.display()
+            );
+        }
+    }
+    let spec = std::fs::read(first.root().join(SPEC_FILE))
+        .with_context(|| format!("cannot read {}", first.root().join(SPEC_FILE).display()))?;
+    let out = ReportDir::create(&args.out)?;
+    let tmp = out.path();
+    write_atomic(&tmp.join(SPEC_FILE), &spec)?;
+    let merged = PlanFile {
+        plan: first.file.plan.clone(),
+        shard: None,
+    };
+    write_atomic(&tmp.join(PLAN_FILE), &serde_json::to_vec_pretty(&merged)?)?;
+    let records_dir = tmp.join(RECORDS_DIR);
+    std::fs::create_dir(&records_dir)
+        .with_context(|| format!("cannot create directory {}", records_dir.display()))?;
+    let records: Vec<EpisodeRecord> = found
+        .into_iter()
+        .flatten()
+        .map(|(path, r)| {
+            let to = records_dir.join(record_name(r.episode.index));
+            std::fs::copy(&path, &to)
+                .map(|_| r)
+                .with_context(|| format!("cannot copy {}", path.display()))
+        })
+        .collect::<Result<_>>()?;
+    write_atomic(
+        &tmp.join(CSV_FILE),
+        &crate::experiment::record::episodes_csv(&records)?,
+    )?;
+    out.commit()?;
+    println!(
+        "experiment `{}`: {} records from {} director{} merged into {}",
+        first.file.plan.name,
+        records.len(),
+        dirs.len(),
+        if dirs.len() == 1 { "y" } else { "ies" },
+        args.out.display()
+    );
+    Ok(())
+}

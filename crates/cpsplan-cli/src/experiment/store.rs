@@ -1,0 +1,336 @@
+//! An experiment's directory: `experiment.toml` (the file as given), `plan.json`
+//! (every episode and the shard this directory runs), `records/` (one JSON file
+//! per finished episode, each written whole under a temporary name and renamed
+//! into place, so that a killed run leaves only whole records) and
+//! `episodes.csv` (one row per record).
+
+use std::collections::BTreeMap;
+use std::fmt;
+use std::path::{Path, PathBuf};
+use std::str::FromStr;
+
+use anyhow::{bail, Context, Result};
+use serde::{Deserialize, Serialize};
+
+use super::record::{episodes_csv, EpisodeRecord, RECORD_FORMAT};
+use super::spec::{Plan, PLAN_FORMAT};
+use crate::report::write_atomic;
+
+/// The experiment file, copied.
+pub const SPEC_FILE: &str = "experiment.toml";
+/// The plan.
+pub const PLAN_FILE: &str = "plan.json";
+/// The records' directory.
+pub const RECORDS_DIR: &str = "records";
+/// The table of the records.
+pub const CSV_FILE: &str = "episodes.csv";
+
+/// The largest record file read, bytes.
+const MAX_RECORD_BYTES: u64 = 1 << 30;
+
+/// The `k`-th of `n` slices of an experiment (`1 ≤ k ≤ n`): the episodes whose
+/// index leaves the remainder `k − 1` when divided by `n`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub struct Shard {
+    /// Which slice, from 1.
+    pub k: usize,
+    /// How many slices.
+    pub n: usize,
+}
+
+impl Shard {
+    /// The whole experiment.
+    pub const WHOLE: Shard = Shard { k: 1, n: 1 };
+
+    /// Whether the episode numbered `index` is in this slice.
+    pub fn holds(&self, index: usize) -> bool {
+        index % self.n == self.k - 1
+    }
+}
+
+impl fmt::Display for Shard {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{}/{}", self.k, self.n)
+    }
+}
+
+impl FromStr for Shard {
+    type Err = String;
+
+    /// Parses `K/N` with `1 ≤ K ≤ N`.
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        let bad = || format!("`{s}` is not K/N with 1 \u{2264} K \u{2264} N (e.g. 3/8)");
+        let (k, n) = s.split_once('/').ok_or_else(bad)?;
+        let k: usize = k.trim().parse().map_err(|_| bad())?;
+        let n: usize = n.trim().parse().map_err(|_| bad())?;
+        if k == 0 || k > n {
+            return Err(bad());
+        }
+        Ok(Shard { k, n })
+    }
+}
+
+/// `plan.json`: the plan and the shard of the directory.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct PlanFile {
+    /// Every episode of the experiment.
+    #[serde(flatten)]
+    pub plan: Plan,
+    /// The slice this directory runs; `null` after a merge (all of them).
+    pub shard: Option<Shard>,
+}
+
+/// An experiment directory.
+#[derive(Debug)]
+pub struct ExperimentDir {
+    root: PathBuf,
+    /// Its plan and shard.
+    pub file: PlanFile,
+}
+
+/// Records of a directory, by episode index, and the files that held none.
+#[derive(Debug, Default)]
+pub struct Records {
+    /// The whole, matching records.
+    pub valid: BTreeMap<usize, (PathBuf, EpisodeRecord)>,
+    /// Files that are not whole records of this plan, with why.
+    pub damaged: Vec<(PathBuf, String)>,
+}
+
+impl ExperimentDir {
+    /// Starts a new experiment in `out`, which must be absent or empty.
+    pub fn create(out: &Path, spec_text: &str, plan: Plan, shard: Shard) -> Result<Self> {
+        if let Ok(mut entries) = std::fs::read_dir(out) {
+            if entries.next().is_some() {
+                bail!(
+                    "--out {} already holds files: --resume continues the experiment there, \
+                     or choose a new directory",
+                    out.display()
+                );
+            }
+        } else if out.exists() {
+            bail!("--out {} exists and is not a directory", out.display());
+        }
+        std::fs::create_dir_all(out.join(RECORDS_DIR))
+            .with_context(|| format!("cannot create directory {}", out.display()))?;
+        let dir = Self {
+            root: out.to_path_buf(),
+            file: PlanFile {
+                plan,
+                shard: Some(shard),
+            },
+        };
+        write_atomic(&out.join(SPEC_FILE), spec_text.as_bytes())?;
+        // plan.json last: it marks a directory as an experiment's.
+        dir.write_plan()?;
+        Ok(dir)
+    }
+
+    /// Opens the experiment in `out` to continue it: its plan and shard must be
+    /// `plan` and `shard`.
+    pub fn resume(out: &Path, plan: Plan, shard: Shard) -> Result<Self> {
+        let dir = Self::open(out)?;
+        let fresh = PlanFile {
+            plan,
+            shard: Some(shard),
+        };
+        if dir.file.shard != fresh.shard {
+            bail!(
+                "--resume: {} runs shard {}, not {shard}; give the same --shard as before",
+                out.display(),
+                dir.file.shard.map_or("(merged)".into(), |s| s.to_string())
+            );
+        }
+        if serde_json::to_value(&dir.file.plan)? != serde_json::to_value(&fresh.plan)? {
+            bail!(
+                "--resume: the experiment in {} was planned from a different experiment file \
+                 (its plan.json differs); resume with the file it was started with, or choose a new --out",
+                out.display()
+            );
+        }
+        std::fs::create_dir_all(out.join(RECORDS_DIR))
+            .with_context(|| format!("cannot create directory {}", out.display()))?;
+        Ok(dir)
+    }
+
+    /// Opens an experiment directory for reading.
+    pub fn open(root: &Path) -> Result<Self> {
+        let path = root.join(PLAN_FILE);
+        let text = std::fs::read_to_string(&path).with_context(|| {
+            format!(
+                "{} holds no experiment (cannot read {PLAN_FILE})",
+                root.display()
+            )
+        })?;
+        let file: PlanFile = serde_json::from_str(&text)
+            .with_context(|| format!("{} is not an experiment plan", path.display()))?;
+        if file.plan.format != PLAN_FORMAT {
+            bail!(
+                "{}: format `{}`, expected `{PLAN_FORMAT}`",
+                path.display(),
+                file.plan.format
+            );
+        }
+        if let Some((i, e)) = file
+            .plan
+            .episodes
+            .iter()
+            .enumerate()
+            .find(|(i, e)| e.index != *i)
+        {
+            bail!("{}: episode {i} is numbered {}", path.display(), e.index);
+        }
+        Ok(Self {
+            root: root.to_path_buf(),
+            file,
+        })
+    }
+
+    /// The directory.
+    pub fn root(&self) -> &Path {
+        &self.root
+    }
+
+    /// Where the record of episode `index` goes.
+    pub fn record_path(&self, index: usize) -> PathBuf {
+        self.root.join(RECORDS_DIR).join(record_name(index))
+    }
+
+    fn write_plan(&self) -> Result<()> {
+        let json = serde_json::to_vec_pretty(&self.file)?;
+        write_atomic(&self.root.join(PLAN_FILE), &json)
+    }
+
+    /// Writes a record whole (temporary file, then rename).
+    pub fn write_record(&self, record: &EpisodeRecord) -> Result<()> {
+        let json = serde_json::to_vec_pretty(record)?;
+        write_atomic(&self.record_path(record.episode.index), &json)
+    }
+
+    /// Reads every record file, sorting the whole ones that match the plan from
+    /// the damaged ones; leftover temporary files of killed runs are listed as
+    /// damaged.
+    pub fn records(&self) -> Result<Records> {
+        let dir = self.root.join(RECORDS_DIR);
+        let mut out = Records::default();
+        let entries = match std::fs::read_dir(&dir) {
+            Ok(e) => e,
+            Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(out),
+            Err(e) => return Err(e).with_context(|| format!("cannot read {}", dir.display())),
+        };
+        let mut paths: Vec<PathBuf> = Vec::new();
+        for entry in entries {
+            let entry = entry.with_context(|| format!("cannot read {}", dir.display()))?;
+            paths.push(entry.path());
+        }
+        paths.sort();
+        for path in paths {
+            match self.check_record(&path) {
+                Ok(record) => {
+                    let index = record.episode.index;
+                    out.valid.insert(index, (path, record));
+                }
+                Err(why) => out.damaged.push((path, why)),
+            }
+        }
+        Ok(out)
+    }
+
+    /// The record in `path`, if it is a whole record of this plan.
+    fn check_record(&self, path: &Path) -> Result<EpisodeRecord, String> {
+        let name = path
+            .file_name()
+            .map(|n| n.to_string_lossy().into_owned())
+            .unwrap_or_default();
+        let index = parse_record_name(&name)
+            .ok_or_else(|| "not a record file name (NNNNNN.json)".to_string())?;
+        let meta = std::fs::metadata(path).map_err(|e| e.to_string())?;
+        if meta.len() > MAX_RECORD_BYTES {
+            return Err("larger than any record".into());
+        }
+        let text = std::fs::read_to_string(path).map_err(|e| e.to_string())?;
+        let record: EpisodeRecord =
+            serde_json::from_str(&text).map_err(|e| format!("not a whole record ({e})"))?;
+        if record.format != RECORD_FORMAT {
+            return Err(format!(
+                "format `{}`, expected `{RECORD_FORMAT}`",
+                record.format
+            ));
+        }
+        let Some(spec) = self.file.plan.episodes.get(index) else {
+            return Err(format!(
+                "episode {index}, but the plan has {}",
+                self.file.plan.episodes.len()
+            ));
+        };
+        let same = record.experiment == self.file.plan.name
+            && serde_json::to_value(&record.episode).ok() == serde_json::to_value(spec).ok();
+        if !same {
+            return Err(format!(
+                "the record is of another episode than plan.json's {index} ({})",
+                spec.label
+            ));
+        }
+        Ok(record)
+    }
+
+    /// Writes `episodes.csv` of `records`.
+    pub fn write_csv<'a>(
+        &self,
+        records: impl IntoIterator<Item = &'a EpisodeRecord>,
+    ) -> Result<()> {
+        write_atomic(&self.root.join(CSV_FILE), &episodes_csv(records)?)
+    }
+}
+
+/// `000042.json`.
+pub fn record_name(index: usize) -> String {
+    format!("{index:06}.json")
+}
+
+fn parse_record_name(name: &str) -> Option<usize> {
+    let digits = name.strip_suffix(".json")?;
+    (digits.len() >= 6 && digits.bytes().all(|b| b.is_ascii_digit()))
+        .then(|| digits.parse().ok())
+        .flatten()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_shards_split_the_episodes_exactly() {
+        for n in 1..=9 {
+            for index in 0..50 {
+                let holders = (1..=n).filter(|&k| Shard { k, n }.holds(index)).count();
+                assert_eq!(holders, 1, "episode {index}, {n} shards");
+            }
+        }
+    }
+
+    #[test]
+    fn shards_parse_as_k_of_n() {
+        assert_eq!("3/8".parse::<Shard>(), Ok(Shard { k: 3, n: 8 }));
+        assert_eq!(" 1 / 1 ".parse::<Shard>(), Ok(Shard::WHOLE));
+        for bad in ["0/3", "4/3", "3", "a/b", "1/0", "-1/2", "1/2/3"] {
+            assert!(bad.parse::<Shard>().is_err(), "{bad}");
+        }
+        assert_eq!(Shard { k: 2, n: 5 }.to_string(), "2/5");
+    }
+
+    #[test]
+    fn record_names_round_trip() {
+        for i in [0, 7, 999_999, 1_000_000] {
+            assert_eq!(parse_record_name(&record_name(i)), Some(i));
+        }
+        for bad in [
+            "12.json",
+            "00001a.json",
+            ".000001.json.1.tmp",
+            "000001.json.tmp",
+        ] {
+            assert_eq!(parse_record_name(bad), None, "{bad}");
+        }
+    }
+}
