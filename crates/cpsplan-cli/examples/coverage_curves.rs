@@ -31,6 +31,7 @@ fn main() -> Result<(), Box<dyn Error>> {
             points,
             colour: COLOURS[k % COLOURS.len()],
             dashed: k % 2 == 1,
+            band: Vec::new(),
         });
     }
     let chart = Chart {

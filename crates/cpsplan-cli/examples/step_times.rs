@@ -90,6 +90,7 @@ fn plot(out: &Path, title: &str, specs: &[String]) -> Result<(), Box<dyn Error>>
             points: rolling_median(&points, 9),
             colour: COLOURS[(k / 2) % COLOURS.len()],
             dashed: k % 2 == 0,
+            band: Vec::new(),
         });
     }
     let chart = Chart {

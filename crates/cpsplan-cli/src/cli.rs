@@ -41,6 +41,24 @@ pub enum Command {
     /// Run the episodes of an experiment file in parallel, one record each as it
     /// finishes (`experiment merge` joins the directories of its shards).
     Experiment(ExperimentArgs),
+    /// Plots and tables of an experiment's records: coverage, travel, error and
+    /// campaign time against the scans, per map and condition, as SVG and PNG, and
+    /// the headline figures as Markdown and CSV.
+    Report(ReportArgs),
+}
+
+/// Options of `cpsplan report`.
+#[derive(Debug, Args)]
+pub struct ReportArgs {
+    /// The experiment's directory (the --out of `cpsplan experiment` or `experiment merge`).
+    #[arg(value_name = "DIR")]
+    pub dir: PathBuf,
+    /// Where the report goes [default: DIR/report]; an earlier report there is replaced.
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
+    /// Print nothing but errors and warnings.
+    #[arg(long, short)]
+    pub quiet: bool,
 }
 
 /// Options of `cpsplan experiment`.
@@ -70,7 +88,7 @@ pub struct ExperimentArgs {
     #[arg(long, value_name = "N", value_parser = parse_count)]
     pub jobs: Option<usize>,
     /// Print nothing but errors.
-    #[arg(long)]
+    #[arg(long, short)]
     pub quiet: bool,
 }
 
@@ -251,12 +269,15 @@ pub struct PlanArgs {
           help = with_default("How the children's spots are chosen: random, balanced, angle, distance or min-error",
                               defaults().children.strategy.name()))]
     pub child_strategy: Option<ChildStrategy>,
-    /// Which planner chooses the next scan position: paper (the greedy Eq. 1)
-    /// or tour (the shortest route through the scan positions that see the
-    /// frontier).
+    /// Which planner chooses the next scan position: paper (the greedy Eq. 1),
+    /// tour (the shortest route through the scan positions that see the
+    /// frontier), or the baselines frontier (ROS explore_lite's nearest frontier)
+    /// and gain (the most new cells, however far).
     #[arg(long, value_name = "PLANNER", value_parser = parse_planner,
-          help = with_default("Which planner chooses the next scan position: paper (the greedy Eq. 1) or tour \
-                               (the shortest route through the scan positions that see the frontier)",
+          help = with_default("Which planner chooses the next scan position: paper (the greedy Eq. 1), tour \
+                               (the shortest route through the scan positions that see the frontier), or the \
+                               baselines frontier (ROS explore_lite's nearest frontier) and gain (the most new \
+                               cells, however far)",
                               defaults().parent.planner.name()))]
     pub planner: Option<Planner>,
     /// Also draw the planned step as a PNG figure (map, candidates, AND regions,
@@ -326,12 +347,15 @@ pub struct ExploreArgs {
                                (the spots that minimise the predicted error of the parent's next pose)",
                               defaults().children.strategy.name()))]
     pub child_strategy: Option<ChildStrategy>,
-    /// Which planner chooses the next scan position: paper (the greedy Eq. 1)
-    /// or tour (the shortest route through the scan positions that see the
-    /// frontier).
+    /// Which planner chooses the next scan position: paper (the greedy Eq. 1),
+    /// tour (the shortest route through the scan positions that see the
+    /// frontier), or the baselines frontier (ROS explore_lite's nearest frontier)
+    /// and gain (the most new cells, however far).
     #[arg(long, value_name = "PLANNER", value_parser = parse_planner,
-          help = with_default("Which planner chooses the next scan position: paper (the greedy Eq. 1) or tour \
-                               (the shortest route through the scan positions that see the frontier)",
+          help = with_default("Which planner chooses the next scan position: paper (the greedy Eq. 1), tour \
+                               (the shortest route through the scan positions that see the frontier), or the \
+                               baselines frontier (ROS explore_lite's nearest frontier) and gain (the most new \
+                               cells, however far)",
                               defaults().parent.planner.name()))]
     pub planner: Option<Planner>,
     /// The instrument measuring the CPS links (see `cpsplan instruments`).
@@ -529,10 +553,13 @@ fn parse_strategy(s: &str) -> Result<ChildStrategy, String> {
 }
 
 fn parse_planner(s: &str) -> Result<Planner, String> {
-    [Planner::Paper, Planner::Tour]
+    Planner::ALL
         .into_iter()
         .find(|p| p.name() == s.trim())
-        .ok_or_else(|| format!("unknown planner `{s}` (one of: paper, tour)"))
+        .ok_or_else(|| {
+            let names: Vec<&str> = Planner::ALL.iter().map(|p| p.name()).collect();
+            format!("unknown planner `{s}` (one of: {})", names.join(", "))
+        })
 }
 
 fn parse_scan_number(s: &str) -> Result<usize, String> {
@@ -569,6 +596,7 @@ where
                 "grid",
                 "bound",
                 "experiment",
+                "report",
             ]
             .contains(a)
         })
@@ -638,6 +666,7 @@ pub fn run() -> Result<()> {
         Command::Grid(args) => commands::grid::run(&args),
         Command::Bound(args) => commands::bound::run(&args),
         Command::Experiment(args) => commands::experiment::run(&args),
+        Command::Report(args) => commands::report::run(&args),
     }
 }
 

@@ -288,12 +288,19 @@ pub struct ReportDir {
     out: PathBuf,
     tmp: PathBuf,
     committed: bool,
+    ours: fn(&str) -> bool,
 }
 
 impl ReportDir {
     /// Checks the destination `out` and creates the temporary directory.
     pub fn create(out: &Path) -> Result<Self> {
-        check_replaceable(out)?;
+        Self::create_for(out, is_report_file)
+    }
+
+    /// [`ReportDir::create`] for a directory whose own files are those with
+    /// `ours(name)`: an existing `out` holding anything else is refused.
+    pub fn create_for(out: &Path, ours: fn(&str) -> bool) -> Result<Self> {
+        check_replaceable(out, ours)?;
         let name = out
             .file_name()
             .map(|n| n.to_string_lossy().into_owned())
@@ -321,6 +328,7 @@ impl ReportDir {
             out: out.to_path_buf(),
             tmp,
             committed: false,
+            ours,
         })
     }
 
@@ -332,7 +340,7 @@ impl ReportDir {
     /// Moves the finished report to its destination, replacing an earlier
     /// report there.
     pub fn commit(mut self) -> Result<()> {
-        check_replaceable(&self.out)?;
+        check_replaceable(&self.out, self.ours)?;
         let old = self.tmp.with_file_name(
             self.tmp
                 .file_name()
@@ -368,7 +376,7 @@ impl Drop for ReportDir {
 
 /// Refuses a destination that is not a directory, or a directory holding
 /// anything but report files.
-fn check_replaceable(out: &Path) -> Result<()> {
+fn check_replaceable(out: &Path, ours: fn(&str) -> bool) -> Result<()> {
     let meta = match std::fs::symlink_metadata(out) {
         Ok(m) => m,
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(()),
@@ -386,7 +394,7 @@ fn check_replaceable(out: &Path) -> Result<()> {
         let entry = entry.with_context(|| format!("cannot read {}", out.display()))?;
         let name = entry.file_name().to_string_lossy().into_owned();
         let file = entry.file_type().is_ok_and(|t| t.is_file());
-        if !(file && is_report_file(&name)) {
+        if !(file && ours(&name)) {
             anyhow::bail!(
                 "--out {} holds `{name}`, which is not part of a cpsplan report; \
                  choose an empty or new directory (an earlier report there is replaced whole)",

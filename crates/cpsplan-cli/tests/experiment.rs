@@ -463,3 +463,91 @@ fn a_killed_run_resumes_to_the_same_records() {
     );
     assert_eq!(records(&out), records(&whole));
 }
+
+#[test]
+fn the_report_draws_every_condition_and_tabulates_it() {
+    let tmp = tempfile::tempdir().unwrap();
+    let spec = write_spec(tmp.path(), SMALL);
+    let out = tmp.path().join("run");
+    let o = out.to_str().unwrap();
+    // Half the episodes first: the report states what it has.
+    run_ok(&[
+        "experiment",
+        spec.to_str().unwrap(),
+        "--out",
+        o,
+        "--shard",
+        "1/2",
+        "-q",
+    ]);
+    let stdout = run_ok(&["report", o]);
+    assert!(stdout.contains("4 conditions of 4 records"), "{stdout}");
+    let md = std::fs::read_to_string(out.join("report/summary.md")).unwrap();
+    assert!(md.contains("4 of 8 episodes recorded (shard 1/2)"), "{md}");
+    // The whole experiment (merged from both shards).
+    let second = tmp.path().join("second");
+    run_ok(&[
+        "experiment",
+        spec.to_str().unwrap(),
+        "--out",
+        second.to_str().unwrap(),
+        "--shard",
+        "2/2",
+        "-q",
+    ]);
+    let merged = tmp.path().join("merged");
+    let m = merged.to_str().unwrap();
+    run_ok(&[
+        "experiment",
+        "merge",
+        o,
+        second.to_str().unwrap(),
+        "--out",
+        m,
+    ]);
+    let report = tmp.path().join("report");
+    let stdout = run_ok(&["report", m, "--out", report.to_str().unwrap()]);
+    assert!(
+        stdout.contains("4 conditions of 8 records, 10 charts"),
+        "{stdout}"
+    );
+    let md = std::fs::read_to_string(report.join("summary.md")).unwrap();
+    for condition in ["site/alone", "site/team", "tunnel/alone", "tunnel/team"] {
+        let row = md
+            .lines()
+            .find(|l| l.starts_with(&format!("| {condition} | 2 |")))
+            .unwrap_or_else(|| panic!("no row of {condition}: {md}"));
+        assert!(row.contains("| 4.0 ± 0.0 |"), "4 scans each: {row}");
+    }
+    let csv = std::fs::read_to_string(report.join("summary.csv")).unwrap();
+    assert_eq!(csv.lines().count(), 5);
+    for map in ["site", "tunnel"] {
+        for chart in ["coverage", "travel", "error", "time", "coverage-travel"] {
+            let png = std::fs::read(report.join(format!("{chart}-{map}.png"))).unwrap();
+            let img = image::load_from_memory(&png).expect("a PNG");
+            assert_eq!((img.width(), img.height()), (1200, 720));
+            let svg = std::fs::read_to_string(report.join(format!("{chart}-{map}.svg"))).unwrap();
+            assert!(svg.starts_with("<svg") && svg.trim_end().ends_with("</svg>"));
+            let lines = svg.matches("<polyline").count();
+            assert!(lines >= 2, "{chart}-{map}: {lines} lines");
+            assert!(
+                md.contains(&format!("({chart}-{map}.png)")),
+                "summary.md shows {chart}-{map}"
+            );
+        }
+    }
+    // The error chart has only the team's line: the parent alone has no CPS chain.
+    let svg = std::fs::read_to_string(report.join("error-site.svg")).unwrap();
+    assert!(svg.contains("team (2 ep.)") && !svg.contains("alone (2 ep.)"));
+    // Again: the earlier report is replaced; a directory of other files is not.
+    run_ok(&["report", m, "--out", report.to_str().unwrap(), "-q"]);
+    std::fs::write(report.join("notes.txt"), "mine").unwrap();
+    refused(
+        &["report", m, "--out", report.to_str().unwrap()],
+        "notes.txt",
+    );
+    refused(
+        &["report", tmp.path().to_str().unwrap()],
+        "holds no experiment",
+    );
+}

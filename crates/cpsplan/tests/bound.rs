@@ -61,14 +61,14 @@ fn an_open_room_in_range_needs_one_station() {
 }
 
 #[test]
-fn the_default_planners_against_the_bound_on_the_site() {
+fn every_planner_against_the_bound_on_the_site() {
     let truth = BuiltinMap::Site.generate(0);
     let start = BuiltinMap::Site.default_start();
     let b = known_map_bound(&truth, start, &Config::default(), BoundParams::default())
         .expect("the site's bound");
     let g99 = b.level(0.99).map(|l| l.greedy_stations).unwrap_or(0);
     assert!(g99 >= 1);
-    for planner in [Planner::Paper, Planner::Tour] {
+    for planner in Planner::ALL {
         let mut config = Config::default();
         config.parent.planner = planner;
         let ep = run_episode(&truth, start, &config, |_| {}).expect("episode runs");
@@ -84,7 +84,7 @@ fn the_default_planners_against_the_bound_on_the_site() {
             s99 >= lb,
             "{planner:?}: {s99} scans to 99 % under the bound {lb}"
         );
-        // Both stay within twice the greedy cover on this open site.
+        // Every planner stays within twice the greedy cover on this open site.
         assert!(
             s99 <= 2 * g99,
             "{planner:?}: {s99} scans to 99 %, greedy {g99}"

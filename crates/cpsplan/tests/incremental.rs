@@ -13,7 +13,7 @@ use cpsplan::{run_episode_with, Config};
 #[test]
 fn kept_gain_field_equals_a_fresh_one_on_the_builtin_maps() {
     for map in BuiltinMap::ALL {
-        for planner in [Planner::Paper, Planner::Tour] {
+        for planner in Planner::ALL {
             let truth = map.generate(0);
             let mut config = Config::default();
             config.children.count = 0;

@@ -8,6 +8,7 @@ pub mod grid;
 pub mod instruments;
 pub mod maps;
 pub mod plan;
+pub mod report;
 
 use std::path::Path;
 

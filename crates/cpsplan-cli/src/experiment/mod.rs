@@ -6,6 +6,7 @@
 pub mod record;
 pub mod spec;
 pub mod store;
+pub mod summary;
 
 pub use record::{EpisodeRecord, Outcome, ScanRecord};
 pub use spec::{parse_plan, read_plan, EpisodeSpec, Plan, SpecError};

@@ -10,14 +10,18 @@ use super::canvas::{text_width, Canvas, Rgb};
 use super::palette;
 use super::RenderError;
 
-/// Colours for the series of a chart, in order (the first six of Tableau 10).
-pub const SERIES_COLOURS: [(u8, u8, u8); 6] = [
+/// Colours for the series of a chart, in order (Tableau 10).
+pub const SERIES_COLOURS: [(u8, u8, u8); 10] = [
     (31, 119, 180),
     (255, 127, 14),
     (44, 160, 44),
     (214, 39, 40),
     (148, 103, 189),
     (140, 86, 75),
+    (227, 119, 194),
+    (127, 127, 127),
+    (188, 189, 34),
+    (23, 190, 207),
 ];
 
 /// One series of a chart.
@@ -31,6 +35,9 @@ pub struct Series {
     pub colour: (u8, u8, u8),
     /// Dashed line.
     pub dashed: bool,
+    /// A band drawn under the line, `(x, low, high)` in order of `x` (the spread
+    /// over seeds; empty: none).
+    pub band: Vec<(f64, f64, f64)>,
 }
 
 /// A line chart.
@@ -52,6 +59,8 @@ pub struct Chart {
 trait Surface {
     fn rect(&mut self, x: f64, y: f64, w: f64, h: f64, c: Rgb);
     fn polyline(&mut self, points: &[(f64, f64)], c: Rgb, width: f64, dashed: bool);
+    /// A filled polygon, `alpha` of 255 opaque.
+    fn polygon(&mut self, points: &[(f64, f64)], c: Rgb, alpha: u8);
     /// `anchor`: 0 left, 1 centre, 2 right; `y` is the text's top.
     fn text(&mut self, x: f64, y: f64, text: &str, size: u32, c: Rgb, anchor: u8);
 }
@@ -114,7 +123,10 @@ impl Chart {
         let all: Vec<(f64, f64)> = self
             .series
             .iter()
-            .flat_map(|s| s.points.iter().copied())
+            .flat_map(|s| {
+                let band = s.band.iter().flat_map(|&(x, lo, hi)| [(x, lo), (x, hi)]);
+                s.points.iter().copied().chain(band)
+            })
             .filter(|p| p.0.is_finite() && p.1.is_finite())
             .collect();
         let (mut xl, mut xh) = all
@@ -164,6 +176,23 @@ impl Chart {
             1,
         );
         s.text(x0 - 70.0, y0 - 34.0, &self.y_label, TEXT, palette::TEXT, 0);
+        for series in &self.series {
+            let c = Rgb(series.colour.0, series.colour.1, series.colour.2);
+            let finite = |&&(x, lo, hi): &&(f64, f64, f64)| {
+                x.is_finite() && lo.is_finite() && hi.is_finite()
+            };
+            let band: Vec<&(f64, f64, f64)> = series.band.iter().filter(finite).collect();
+            if band.len() >= 2 {
+                let outline: Vec<(f64, f64)> = band
+                    .iter()
+                    .map(|&&(x, _, hi)| (px(x), py(hi)))
+                    .chain(band.iter().rev().map(|&&(x, lo, _)| (px(x), py(lo))))
+                    .collect();
+                // Fainter the more bands overlap.
+                let alpha = if self.series.len() <= 3 { 48 } else { 24 };
+                s.polygon(&outline, c, alpha);
+            }
+        }
         for (series, &(lx, ly)) in self.series.iter().zip(&legend) {
             let c = Rgb(series.colour.0, series.colour.1, series.colour.2);
             let pts: Vec<(f64, f64)> = series
@@ -219,6 +248,21 @@ impl Surface for Canvas {
             } else {
                 self.stroke_path(&path, c, 255, width as f32);
             }
+        }
+    }
+
+    fn polygon(&mut self, points: &[(f64, f64)], c: Rgb, alpha: u8) {
+        let Some((first, rest)) = points.split_first() else {
+            return;
+        };
+        let mut pb = PathBuilder::new();
+        pb.move_to(first.0 as f32, first.1 as f32);
+        for p in rest {
+            pb.line_to(p.0 as f32, p.1 as f32);
+        }
+        pb.close();
+        if let Some(path) = pb.finish() {
+            self.fill_path(&path, c, alpha);
         }
     }
 
@@ -278,6 +322,23 @@ impl Surface for Svg {
         );
     }
 
+    fn polygon(&mut self, points: &[(f64, f64)], c: Rgb, alpha: u8) {
+        if points.len() < 3 {
+            return;
+        }
+        let pts: Vec<String> = points
+            .iter()
+            .map(|p| format!("{:.1},{:.1}", p.0, p.1))
+            .collect();
+        let _ = writeln!(
+            self.0,
+            "<polygon points=\"{}\" fill=\"{}\" fill-opacity=\"{:.3}\" stroke=\"none\"/>",
+            pts.join(" "),
+            hex(c),
+            f64::from(alpha) / 255.0
+        );
+    }
+
     fn text(&mut self, x: f64, y: f64, text: &str, size: u32, c: Rgb, anchor: u8) {
         let anchor = ["start", "middle", "end"][usize::from(anchor.min(2))];
         // Bitmap glyphs are 8 px tall at scale 1; the baseline sits near 7/8.
@@ -309,6 +370,7 @@ pub fn error_chart(episode: &cpsplan::Episode, title: &str) -> Option<Chart> {
         points: predicted,
         colour: (0x6a, 0x3d, 0x9a),
         dashed: false,
+        band: Vec::new(),
     }];
     let mc: Vec<(f64, f64)> = episode
         .steps
@@ -322,6 +384,7 @@ pub fn error_chart(episode: &cpsplan::Episode, title: &str) -> Option<Chart> {
             points: mc,
             colour: (0xd6, 0x27, 0x28),
             dashed: true,
+            band: Vec::new(),
         });
     }
     let c = &episode.config.children;
@@ -357,6 +420,7 @@ mod tests {
                 points: (1..=10).map(|i| (i as f64, (i as f64).sqrt())).collect(),
                 colour: (31, 119, 180),
                 dashed: false,
+                band: Vec::new(),
             }],
         }
     }
@@ -379,6 +443,7 @@ mod tests {
     impl Surface for Texts {
         fn rect(&mut self, _: f64, _: f64, _: f64, _: f64, _: Rgb) {}
         fn polyline(&mut self, _: &[(f64, f64)], _: Rgb, _: f64, _: bool) {}
+        fn polygon(&mut self, _: &[(f64, f64)], _: Rgb, _: u8) {}
         fn text(&mut self, x: f64, y: f64, text: &str, size: u32, _: Rgb, anchor: u8) {
             self.0.push((x, y, text.to_string(), size, anchor));
         }
@@ -393,6 +458,7 @@ mod tests {
                 points: vec![(0.0, k as f64), (1.0, 1.0)],
                 colour: (0, 0, 0),
                 dashed: k % 2 == 0,
+                band: Vec::new(),
             })
             .collect();
         let mut texts = Texts::default();

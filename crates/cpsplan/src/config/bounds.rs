@@ -151,6 +151,27 @@ pub const BOUNDS: &[Bound] = &[
     real!("time.speed_m_s", 1e-3, 100.0, "m/s", time.speed_m_s),
     real!("parent.min_gain_share", 0.0, 1.0, "", parent.min_gain_share),
     real!("parent.unknown_depth", 0.0, 1e4, "m", parent.unknown_depth),
+    real!(
+        "parent.frontier_potential_scale",
+        0.0,
+        1e6,
+        "",
+        parent.frontier_potential_scale
+    ),
+    real!(
+        "parent.frontier_gain_scale",
+        0.0,
+        1e6,
+        "",
+        parent.frontier_gain_scale
+    ),
+    real!(
+        "parent.frontier_min_size",
+        0.0,
+        1e3,
+        "m",
+        parent.frontier_min_size
+    ),
     real!("parent.gain_scale", 1e-6, 1e6, "", parent.gain_scale),
     count!(
         "parent.min_frontier_cells",

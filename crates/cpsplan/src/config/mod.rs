@@ -116,6 +116,13 @@ pub struct ParentConfig {
     pub gamma: f64,
     /// How many candidates the error term evaluates (their moves are planned).
     pub error_candidates: usize,
+    /// `frontier`: explore_lite's `potential_scale`, the weight of the distance.
+    pub frontier_potential_scale: f64,
+    /// `frontier`: explore_lite's `gain_scale`, the weight of the frontier's size.
+    pub frontier_gain_scale: f64,
+    /// `frontier`: explore_lite's `min_frontier_size`, metres: smaller frontiers
+    /// are ignored.
+    pub frontier_min_size: f64,
 }
 
 impl Default for ParentConfig {
@@ -143,6 +150,9 @@ impl Default for ParentConfig {
             min_frontier_cells: 2,
             gamma: 0.0,
             error_candidates: 4,
+            frontier_potential_scale: 1e-3,
+            frontier_gain_scale: 1.0,
+            frontier_min_size: 0.5,
         }
     }
 }
@@ -191,14 +201,30 @@ pub enum Planner {
     /// RA-L 2021): the shortest open route from the parent through every
     /// candidate worth a scan; the next scan is its first stop.
     Tour,
+    /// A baseline: nearest-frontier exploration with the frontier search and cost
+    /// of ROS explore_lite (`parent.frontier_*`; see `parent::frontier_goals`).
+    Frontier,
+    /// A baseline: pure information gain, the candidate of Eq. (1) that would see
+    /// the most new cells `S`, however far.
+    Gain,
 }
 
 impl Planner {
+    /// Every planner.
+    pub const ALL: [Planner; 4] = [
+        Planner::Paper,
+        Planner::Tour,
+        Planner::Frontier,
+        Planner::Gain,
+    ];
+
     /// Its name in the configuration and on the command line.
     pub fn name(self) -> &'static str {
         match self {
             Planner::Paper => "paper",
             Planner::Tour => "tour",
+            Planner::Frontier => "frontier",
+            Planner::Gain => "gain",
         }
     }
 }

@@ -25,6 +25,9 @@ pub enum CandidateOrigin {
     /// A cell near a candidate that no CPS move could reach, taken instead of it
     /// (see `mission`); it keeps that candidate's `G`.
     Relocated,
+    /// The nearest-frontier baseline's goal: the drivable cell nearest to an
+    /// explore_lite frontier's centroid (`--planner frontier`).
+    Frontier,
 }
 
 /// One candidate target of the parent with the terms of Eq. (1).

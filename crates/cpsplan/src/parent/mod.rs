@@ -18,6 +18,8 @@
 //!   (beyond the paper).
 //! - [`open_tour`], [`covering_candidates`], [`travel_matrix`]: the tour planner
 //!   (`--planner tour`, beyond the paper).
+//! - [`frontier_goals`]: the nearest-frontier baseline of ROS explore_lite
+//!   (`--planner frontier`); `--planner gain` takes the candidate of largest `S`.
 
 mod band;
 mod border;
@@ -25,6 +27,7 @@ mod candidate;
 mod fallback;
 mod frontier;
 mod kmeans;
+mod nearest_frontier;
 mod planner;
 mod relocation;
 mod samples;
@@ -37,6 +40,7 @@ pub use candidate::{Candidate, CandidateOrigin};
 pub use fallback::{fallback_candidate, frontier_cells, reachable_frontier, CPS_FALLBACK_TRIES};
 pub use frontier::Frontier;
 pub use kmeans::{kmeans, Clustering};
+pub use nearest_frontier::{frontier_goals, nearest_valid_cell, FrontierGoal};
 pub use planner::{
     plan_parent, plan_parent_with_field, plan_parent_with_reach, Decision, Kept, ParentPlan,
     ParentReach,

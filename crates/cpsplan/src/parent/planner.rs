@@ -25,6 +25,7 @@ use super::candidate::{
 use super::fallback::frontier_cells;
 use super::frontier::Frontier;
 use super::kmeans::kmeans;
+use super::nearest_frontier::{frontier_goals, nearest_valid_cell};
 use super::samples::{band_area, cluster_count, scatter};
 use super::score::{evaluate, Terms};
 use super::tour::TourRound;
@@ -238,6 +239,23 @@ pub fn plan_parent_with_field(
             &g,
         ));
     }
+    if pc.planner == Planner::Frontier {
+        // The baseline's own candidates: explore_lite's frontiers, cheapest first,
+        // each at the drivable cell nearest to its centroid.
+        plan.candidates.clear();
+        seen_cells.clear();
+        for f in frontier_goals(knowledge, parent, pc) {
+            let Some(cell) = nearest_valid_cell(&g, f.centroid, valid) else {
+                break;
+            };
+            if seen_cells.insert(cell) {
+                let position = to_point(f.centroid);
+                let origin = CandidateOrigin::Frontier;
+                plan.candidates
+                    .push(new_candidate(cell, position, origin, f.cells, &g));
+            }
+        }
+    }
     // Terms of Eq. (1), S and the gain estimate in parallel (with the tour, also
     // the frontier cells each candidate would see).
     let tour = pc.planner == Planner::Tour && u32::try_from(g.len()).is_ok();
@@ -299,6 +317,23 @@ pub fn plan_parent_with_field(
         if c.eligible && best.is_none_or(|(_, b)| gv > b) {
             best = Some((i, gv));
         }
+    }
+    match pc.planner {
+        // explore_lite's order: the cheapest frontier worth a scan.
+        Planner::Frontier => {
+            best = worth
+                .iter()
+                .position(|&w| w)
+                .map(|i| (i, plan.candidates[i].g))
+        }
+        // The most new cells, the first of equals.
+        Planner::Gain => {
+            best = (0..plan.candidates.len())
+                .filter(|&i| worth[i])
+                .min_by_key(|&i| (std::cmp::Reverse(plan.candidates[i].s_cells), i))
+                .map(|i| (i, plan.candidates[i].g));
+        }
+        Planner::Paper | Planner::Tour => {}
     }
     if tour {
         let round = TourRound {

@@ -1,0 +1,174 @@
+//! `cpsplan report DIR`: the plots and tables of an experiment's records.
+//!
+//! Per map, one chart per figure against the scan number (coverage, parent
+//! travel, predicted error, campaign time) and coverage against travel, each
+//! condition a line (the median over its seeds) over a band (their quartiles), as
+//! SVG and PNG; the headline figures of every condition as Markdown
+//! (`summary.md`, with the charts) and CSV (`summary.csv`). Written whole into
+//! `--out` (default `DIR/report`).
+
+use std::path::PathBuf;
+
+use anyhow::{bail, Result};
+
+use crate::cli::ReportArgs;
+use crate::experiment::summary::{
+    conditions, csv_table, curve, curve_against, headline, markdown_table, Condition, Metric,
+};
+use crate::experiment::{EpisodeRecord, ExperimentDir};
+use crate::render::{Chart, Series, SERIES_COLOURS};
+use crate::report::{write_atomic, ReportDir};
+
+/// The per-scan figures drawn against the scan number.
+const METRICS: [Metric; 4] = [
+    Metric::Coverage,
+    Metric::Travel,
+    Metric::Error,
+    Metric::Clock,
+];
+
+/// Whether `name` is a file `report` writes.
+fn is_report_file(name: &str) -> bool {
+    name == "summary.md"
+        || name == "summary.csv"
+        || [".svg", ".png"].iter().any(|ext| name.ends_with(ext))
+}
+
+/// A map's name as it may stand in a file name.
+fn file_part(name: &str) -> String {
+    name.chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || c == '-' || c == '_' {
+                c
+            } else {
+                '_'
+            }
+        })
+        .collect()
+}
+
+/// The series of `conditions` for one chart: each condition's colour and dash
+/// by its place among the map's conditions.
+fn series(
+    conditions: &[&Condition<'_>],
+    points: impl Fn(&Condition<'_>) -> Option<(Vec<(f64, f64)>, Vec<(f64, f64, f64)>)>,
+) -> Vec<Series> {
+    conditions
+        .iter()
+        .enumerate()
+        .filter_map(|(k, c)| {
+            let (points, band) = points(c)?;
+            Some(Series {
+                label: format!("{} ({} ep.)", c.within_map, c.records.len()),
+                points,
+                colour: SERIES_COLOURS[k % SERIES_COLOURS.len()],
+                dashed: (k / SERIES_COLOURS.len()) % 2 == 1,
+                band,
+            })
+        })
+        .collect()
+}
+
+/// Runs `cpsplan report`.
+pub fn run(args: &ReportArgs) -> Result<()> {
+    let dir = ExperimentDir::open(&args.dir)?;
+    let records = dir.records()?;
+    for (path, why) in &records.damaged {
+        eprintln!("warning: {} left out: {why}", path.display());
+    }
+    let records: Vec<EpisodeRecord> = records.valid.into_values().map(|(_, r)| r).collect();
+    if records.is_empty() {
+        bail!("{} holds no finished record yet", args.dir.display());
+    }
+    let plan = &dir.file.plan;
+    let out_dir = args.out.clone().unwrap_or_else(|| args.dir.join("report"));
+    let report = ReportDir::create_for(&out_dir, is_report_file)?;
+    let all = conditions(&records);
+    let mut maps: Vec<&str> = Vec::new();
+    for c in &all {
+        if !maps.contains(&c.map.as_str()) {
+            maps.push(&c.map);
+        }
+    }
+    let mut md = format!(
+        "# Experiment `{}`\n\n{}\n\n{} of {} episodes recorded{}.\n\n## Headline figures\n\n\
+         Means over the seeds of each condition (± the standard deviation); \"to 90 %\": scans \
+         until 90 % of the reachable free space was covered.\n\n",
+        plan.name,
+        plan.description,
+        records.len(),
+        plan.episodes.len(),
+        match dir.file.shard {
+            Some(s) if s.n > 1 => format!(" (shard {s})"),
+            _ => String::new(),
+        }
+    );
+    let rows: Vec<_> = all.iter().map(headline).collect();
+    md.push_str(&markdown_table(&rows));
+    let mut files: Vec<(PathBuf, Vec<u8>)> = Vec::new();
+    for map in &maps {
+        let here: Vec<&Condition<'_>> = all.iter().filter(|c| c.map == *map).collect();
+        md.push_str(&format!("\n## {map}\n\n"));
+        let subtitle = "median over the seeds, band: their middle half; \
+                        an ended episode keeps its last value"
+            .to_string();
+        let mut charts: Vec<(String, Chart)> = Vec::new();
+        for metric in METRICS {
+            let s = series(&here, |c| curve(c, metric).map(|k| (k.median, k.quartiles)));
+            if s.is_empty() {
+                continue;
+            }
+            charts.push((
+                format!("{}-{}", metric.name(), file_part(map)),
+                Chart {
+                    title: format!("{} \u{2014} {map}", plan.name),
+                    subtitle: subtitle.clone(),
+                    x_label: "scan".into(),
+                    y_label: metric.axis().into(),
+                    series: s,
+                },
+            ));
+        }
+        let s = series(&here, |c| {
+            curve_against(c, Metric::Travel, Metric::Coverage).map(|p| (p, Vec::new()))
+        });
+        if !s.is_empty() {
+            charts.push((
+                format!("coverage-travel-{}", file_part(map)),
+                Chart {
+                    title: format!("{} \u{2014} {map}", plan.name),
+                    subtitle: "median coverage against the median parent travel, scan by scan"
+                        .into(),
+                    x_label: Metric::Travel.axis().into(),
+                    y_label: Metric::Coverage.axis().into(),
+                    series: s,
+                },
+            ));
+        }
+        for (name, chart) in charts {
+            files.push((
+                PathBuf::from(format!("{name}.svg")),
+                chart.svg().into_bytes(),
+            ));
+            files.push((PathBuf::from(format!("{name}.png")), chart.png()?));
+            md.push_str(&format!("![{name}]({name}.png)\n\n"));
+        }
+    }
+    for (name, bytes) in &files {
+        write_atomic(&report.path().join(name), bytes)?;
+    }
+    write_atomic(&report.path().join("summary.md"), md.as_bytes())?;
+    write_atomic(&report.path().join("summary.csv"), &csv_table(&rows)?)?;
+    report.commit()?;
+    if !args.quiet {
+        println!(
+            "experiment `{}`: {} conditions of {} records, {} charts; report written to {}",
+            plan.name,
+            all.len(),
+            records.len(),
+            files.len() / 2,
+            out_dir.display()
+        );
+    }
+    Ok(())
+}

@@ -1,0 +1,453 @@
+//! What an experiment's records add up to: its conditions (every axis but the
+//! seed), each condition's per-scan curves over its seeds (median and range),
+//! and its headline figures.
+
+use serde::Serialize;
+
+use super::record::{EpisodeRecord, Outcome, ScanRecord};
+
+/// The episodes of one condition: the same map, start, parameter set, planner,
+/// child strategy and instrument, over seeds.
+#[derive(Debug, Clone)]
+pub struct Condition<'a> {
+    /// The episodes' label without the seed (`office/alpha0`).
+    pub label: String,
+    /// The map's short name (the label's first part).
+    pub map: String,
+    /// The rest of the label (`alpha0`), or `all` when only the map and the seed vary.
+    pub within_map: String,
+    /// Its records, in episode order.
+    pub records: Vec<&'a EpisodeRecord>,
+}
+
+/// `records` grouped by condition, in the order of their first episodes.
+pub fn conditions(records: &[EpisodeRecord]) -> Vec<Condition<'_>> {
+    let mut out: Vec<Condition<'_>> = Vec::new();
+    for r in records {
+        let label = match r.episode.label.rsplit_once('/') {
+            Some((rest, seed)) if seed.starts_with("seed") => rest.to_string(),
+            _ => r.episode.label.clone(),
+        };
+        match out.iter_mut().find(|c| c.label == label) {
+            Some(c) => c.records.push(r),
+            None => {
+                let (map, within) = match label.split_once('/') {
+                    Some((m, w)) => (m.to_string(), w.to_string()),
+                    None => (label.clone(), "all".to_string()),
+                };
+                out.push(Condition {
+                    label,
+                    map,
+                    within_map: within,
+                    records: vec![r],
+                });
+            }
+        }
+    }
+    out
+}
+
+/// A per-scan figure of the records.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Metric {
+    /// Coverage of the reachable free space, %.
+    Coverage,
+    /// Parent travel so far, m.
+    Travel,
+    /// Predicted radial 1σ of the scan position, mm.
+    Error,
+    /// The campaign clock, h.
+    Clock,
+}
+
+impl Metric {
+    fn of(self, s: &ScanRecord) -> Option<f64> {
+        match self {
+            Metric::Coverage => Some(100.0 * s.coverage),
+            Metric::Travel => Some(s.parent_travel_m),
+            Metric::Error => s.position_sigma_m.map(|v| 1e3 * v),
+            Metric::Clock => Some(s.clock_h),
+        }
+    }
+
+    /// The axis label.
+    pub fn axis(self) -> &'static str {
+        match self {
+            Metric::Coverage => "coverage of the reachable free space, %",
+            Metric::Travel => "parent travel, m",
+            Metric::Error => "predicted position error (1\u{3c3}), mm",
+            Metric::Clock => "campaign time, h",
+        }
+    }
+
+    /// The short name used in file names.
+    pub fn name(self) -> &'static str {
+        match self {
+            Metric::Coverage => "coverage",
+            Metric::Travel => "travel",
+            Metric::Error => "error",
+            Metric::Clock => "time",
+        }
+    }
+}
+
+/// Per scan number: the median of a metric over a condition's episodes and the
+/// middle half of them (the quartiles). An episode that ended before a scan
+/// keeps its last value there.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Curve {
+    /// `(scan, median)`.
+    pub median: Vec<(f64, f64)>,
+    /// `(scan, first quartile, third quartile)`.
+    pub quartiles: Vec<(f64, f64, f64)>,
+}
+
+/// The values of `metric` for every scan of every finished episode, carried to
+/// the longest episode's length; `None` if no episode has the metric.
+fn columns(records: &[&EpisodeRecord], metric: Metric) -> Option<Vec<Vec<f64>>> {
+    let series: Vec<Vec<f64>> = records
+        .iter()
+        .filter_map(|r| match &r.outcome {
+            Outcome::Finished { scans, .. } => {
+                let v: Vec<f64> = scans.iter().filter_map(|s| metric.of(s)).collect();
+                (v.len() == scans.len() && !v.is_empty()).then_some(v)
+            }
+            Outcome::Failed { .. } => None,
+        })
+        .collect();
+    let longest = series.iter().map(Vec::len).max()?;
+    Some(
+        (0..longest)
+            .map(|k| {
+                series
+                    .iter()
+                    .map(|v| v[k.min(v.len() - 1)])
+                    .collect::<Vec<f64>>()
+            })
+            .collect(),
+    )
+}
+
+/// The `q`-quantile of sorted `values`, linearly interpolated between ranks.
+fn quantile(sorted: &[f64], q: f64) -> f64 {
+    let at = q * (sorted.len() - 1) as f64;
+    let (lo, hi) = (at.floor() as usize, at.ceil() as usize);
+    sorted[lo] + (sorted[hi] - sorted[lo]) * (at - lo as f64)
+}
+
+fn median(values: &mut [f64]) -> f64 {
+    values.sort_by(f64::total_cmp);
+    quantile(values, 0.5)
+}
+
+/// The curve of `metric` against the scan number over a condition's episodes.
+pub fn curve(condition: &Condition<'_>, metric: Metric) -> Option<Curve> {
+    let columns = columns(&condition.records, metric)?;
+    let mut out = Curve {
+        median: Vec::with_capacity(columns.len()),
+        quartiles: Vec::with_capacity(columns.len()),
+    };
+    for (k, mut col) in columns.into_iter().enumerate() {
+        let x = (k + 1) as f64;
+        let m = median(&mut col);
+        out.median.push((x, m));
+        out.quartiles
+            .push((x, quantile(&col, 0.25), quantile(&col, 0.75)));
+    }
+    Some(out)
+}
+
+/// The median of `y` against the median of `x`, scan by scan (coverage against
+/// travel).
+pub fn curve_against(condition: &Condition<'_>, x: Metric, y: Metric) -> Option<Vec<(f64, f64)>> {
+    let xs = columns(&condition.records, x)?;
+    let ys = columns(&condition.records, y)?;
+    Some(
+        xs.into_iter()
+            .zip(ys)
+            .map(|(mut a, mut b)| (median(&mut a), median(&mut b)))
+            .collect(),
+    )
+}
+
+/// Mean and sample standard deviation (0 for one value); `None` for none.
+fn mean_sd(values: &[f64]) -> Option<(f64, f64)> {
+    if values.is_empty() {
+        return None;
+    }
+    let n = values.len() as f64;
+    let mean = values.iter().sum::<f64>() / n;
+    let sd = if values.len() > 1 {
+        (values.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (n - 1.0)).sqrt()
+    } else {
+        0.0
+    };
+    Some((mean, sd))
+}
+
+/// The headline figures of one condition (means over its finished episodes).
+#[derive(Debug, Clone, Serialize)]
+pub struct Headline {
+    /// The condition's label.
+    pub condition: String,
+    /// Episodes recorded.
+    pub episodes: usize,
+    /// Of those, episodes that could not run.
+    pub failed: usize,
+    /// Scans: mean, standard deviation, least, most.
+    pub scans_mean: Option<f64>,
+    /// Standard deviation of the scans.
+    pub scans_sd: Option<f64>,
+    /// Fewest scans.
+    pub scans_min: Option<usize>,
+    /// Most scans.
+    pub scans_max: Option<usize>,
+    /// Scans to reach 90 % coverage (episodes that reached it).
+    pub scans_to_90_mean: Option<f64>,
+    /// Scans to reach 99 % coverage (episodes that reached it).
+    pub scans_to_99_mean: Option<f64>,
+    /// Final coverage.
+    pub coverage_mean: Option<f64>,
+    /// Parent travel, m.
+    pub parent_travel_m_mean: Option<f64>,
+    /// Its standard deviation.
+    pub parent_travel_m_sd: Option<f64>,
+    /// The children's travel, summed, m.
+    pub child_travel_m_mean: Option<f64>,
+    /// CPS cycles.
+    pub cps_cycles_mean: Option<f64>,
+    /// Moves with subgoals.
+    pub subgoal_retrievals_mean: Option<f64>,
+    /// Predicted 1σ of the last scan position, mm.
+    pub final_sigma_mm_mean: Option<f64>,
+    /// Its standard deviation.
+    pub final_sigma_mm_sd: Option<f64>,
+    /// That σ as % of the parent's travel.
+    pub error_percent_of_travel_mean: Option<f64>,
+    /// Campaign time, h.
+    pub campaign_time_h_mean: Option<f64>,
+    /// Its standard deviation.
+    pub campaign_time_h_sd: Option<f64>,
+}
+
+/// The headline figures of `condition`.
+pub fn headline(condition: &Condition<'_>) -> Headline {
+    let finished: Vec<(&cpsplan::mission::Summary, &Vec<ScanRecord>)> = condition
+        .records
+        .iter()
+        .filter_map(|r| match &r.outcome {
+            Outcome::Finished { summary, scans, .. } => Some((summary.as_ref(), scans)),
+            Outcome::Failed { .. } => None,
+        })
+        .collect();
+    let of = |f: &dyn Fn(&cpsplan::mission::Summary) -> Option<f64>| {
+        let v: Vec<f64> = finished.iter().filter_map(|(s, _)| f(s)).collect();
+        mean_sd(&v)
+    };
+    let to = |share: f64| {
+        let v: Vec<f64> = finished
+            .iter()
+            .filter_map(|(_, scans)| scans.iter().find(|s| s.coverage >= share))
+            .map(|s| s.scan as f64)
+            .collect();
+        mean_sd(&v).map(|m| m.0)
+    };
+    let scans = of(&|s| Some(s.scans as f64));
+    let travel = of(&|s| Some(s.parent_travel_m));
+    let sigma = of(&|s| s.final_position_sigma_m.map(|v| 1e3 * v));
+    let time = of(&|s| Some(s.campaign_time_h));
+    Headline {
+        condition: condition.label.clone(),
+        episodes: condition.records.len(),
+        failed: condition.records.len() - finished.len(),
+        scans_mean: scans.map(|m| m.0),
+        scans_sd: scans.map(|m| m.1),
+        scans_min: finished.iter().map(|(s, _)| s.scans).min(),
+        scans_max: finished.iter().map(|(s, _)| s.scans).max(),
+        scans_to_90_mean: to(0.9),
+        scans_to_99_mean: to(0.99),
+        coverage_mean: of(&|s| Some(s.coverage)).map(|m| m.0),
+        parent_travel_m_mean: travel.map(|m| m.0),
+        parent_travel_m_sd: travel.map(|m| m.1),
+        child_travel_m_mean: of(&|s| {
+            (!s.child_travel_m.is_empty()).then(|| s.child_travel_m.iter().fold(0.0, |a, b| a + b))
+        })
+        .map(|m| m.0),
+        cps_cycles_mean: of(&|s| Some(s.cps_cycles as f64)).map(|m| m.0),
+        subgoal_retrievals_mean: of(&|s| Some(s.subgoal_retrievals as f64)).map(|m| m.0),
+        final_sigma_mm_mean: sigma.map(|m| m.0),
+        final_sigma_mm_sd: sigma.map(|m| m.1),
+        error_percent_of_travel_mean: of(&|s| s.error_percent_of_travel).map(|m| m.0),
+        campaign_time_h_mean: time.map(|m| m.0),
+        campaign_time_h_sd: time.map(|m| m.1),
+    }
+}
+
+fn cell(v: Option<f64>, digits: usize) -> String {
+    v.map_or("—".into(), |v| format!("{v:.digits$}"))
+}
+
+fn pm(mean: Option<f64>, sd: Option<f64>, digits: usize) -> String {
+    match (mean, sd) {
+        (Some(m), Some(s)) => format!("{m:.digits$} ± {s:.digits$}"),
+        _ => "—".into(),
+    }
+}
+
+/// The headline table as Markdown.
+pub fn markdown_table(rows: &[Headline]) -> String {
+    let mut out = String::from(
+        "| condition | episodes | scans | to 90 % | to 99 % | coverage | parent travel, m | \
+         children's travel, m | CPS cycles | moves with subgoals | final σ, mm | σ / travel | \
+         campaign, h |\n|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n",
+    );
+    for r in rows {
+        let episodes = if r.failed > 0 {
+            format!("{} ({} failed)", r.episodes, r.failed)
+        } else {
+            r.episodes.to_string()
+        };
+        out.push_str(&format!(
+            "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |\n",
+            r.condition,
+            episodes,
+            pm(r.scans_mean, r.scans_sd, 1),
+            cell(r.scans_to_90_mean, 1),
+            cell(r.scans_to_99_mean, 1),
+            r.coverage_mean
+                .map_or("—".into(), |c| format!("{:.2} %", 100.0 * c)),
+            pm(r.parent_travel_m_mean, r.parent_travel_m_sd, 0),
+            cell(r.child_travel_m_mean, 0),
+            cell(r.cps_cycles_mean, 1),
+            cell(r.subgoal_retrievals_mean, 1),
+            pm(r.final_sigma_mm_mean, r.final_sigma_mm_sd, 1),
+            r.error_percent_of_travel_mean
+                .map_or("—".into(), |v| format!("{v:.4} %")),
+            pm(r.campaign_time_h_mean, r.campaign_time_h_sd, 1),
+        ));
+    }
+    out
+}
+
+/// The headline table as CSV.
+pub fn csv_table(rows: &[Headline]) -> anyhow::Result<Vec<u8>> {
+    let mut w = csv::Writer::from_writer(Vec::new());
+    for r in rows {
+        w.serialize(r)?;
+    }
+    w.into_inner().map_err(|e| anyhow::anyhow!("{e}"))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::experiment::spec::parse_plan;
+    use cpsplan::mission::{StopReason, Summary};
+    use cpsplan::Point;
+
+    /// A finished record of episode `index` of `plan` with the given coverages.
+    fn record(plan: &crate::experiment::Plan, index: usize, coverage: &[f64]) -> EpisodeRecord {
+        let scans: Vec<ScanRecord> = coverage
+            .iter()
+            .enumerate()
+            .map(|(k, &c)| ScanRecord {
+                scan: k + 1,
+                position: Point::new(0.0, 0.0),
+                coverage: c,
+                wall_coverage: c,
+                parent_travel_m: 10.0 * k as f64,
+                clock_h: 0.1 * (k + 1) as f64,
+                position_sigma_m: None,
+                monte_carlo_error_m: None,
+                cps_cycles: 0,
+                subgoal_retrieval: false,
+            })
+            .collect();
+        let summary = Summary {
+            scans: scans.len(),
+            coverage: *coverage.last().unwrap(),
+            wall_coverage: 1.0,
+            connected_coverage: 1.0,
+            reachable_free_cells: 1,
+            connected_free_cells: 1,
+            map_free_cells: 1,
+            parent_travel_m: scans.last().unwrap().parent_travel_m,
+            stop_reason: StopReason::Complete,
+            seed: plan.episodes[index].seed,
+            cps_cycles: 0,
+            subgoal_retrievals: 0,
+            child_travel_m: Vec::new(),
+            instrument: "gpt-9005a".into(),
+            final_position_sigma_m: None,
+            error_percent_of_travel: None,
+            monte_carlo_runs: 0,
+            monte_carlo_mean_error_m: None,
+            campaign_time_h: scans.last().unwrap().clock_h,
+            campaign_time: Default::default(),
+            planner: plan.episodes[index].planner,
+        };
+        let spec = &plan.episodes[index];
+        let mut r = EpisodeRecord::failed("x", spec, String::new(), 0.0);
+        r.outcome = Outcome::Finished {
+            start: Point::new(0.0, 0.0),
+            summary: Box::new(summary),
+            scans,
+        };
+        r
+    }
+
+    #[test]
+    fn conditions_gather_the_seeds_and_curves_carry_ended_episodes() {
+        let plan = parse_plan(
+            "name = \"x\"\nmaps = [\"builtin:site\", \"builtin:office\"]\nseeds = [0, 1, 2]\n",
+            std::path::Path::new("x.toml"),
+        )
+        .unwrap();
+        let records = vec![
+            record(&plan, 0, &[0.5, 0.9, 1.0]),
+            record(&plan, 1, &[0.3, 0.95]),
+            record(&plan, 2, &[0.4, 0.6, 0.8, 0.99]),
+            record(&plan, 3, &[1.0]),
+        ];
+        let c = conditions(&records);
+        assert_eq!(c.len(), 2);
+        assert_eq!((c[0].label.as_str(), c[0].map.as_str()), ("site", "site"));
+        assert_eq!(c[0].within_map, "all");
+        assert_eq!(c[0].records.len(), 3);
+        let curve = curve(&c[0], Metric::Coverage).unwrap();
+        // Scan 3: 100, 95 (carried), 80 → median 95; scan 4: 100, 95, 99.
+        assert_eq!(curve.median.len(), 4);
+        assert!(
+            (curve.median[2].1 - 95.0).abs() < 1e-9,
+            "{:?}",
+            curve.median
+        );
+        assert!((curve.median[3].1 - 99.0).abs() < 1e-9);
+        // Scan 1: 30, 40, 50.
+        assert_eq!(curve.quartiles[0], (1.0, 35.0, 45.0));
+        assert_eq!(quantile(&[1.0, 2.0, 3.0, 4.0], 0.5), 2.5);
+        assert_eq!(quantile(&[7.0], 0.25), 7.0);
+        assert!(curve_against(&c[0], Metric::Travel, Metric::Coverage).is_some());
+        assert!(
+            super::curve(&c[0], Metric::Error).is_none(),
+            "no error without children"
+        );
+        let h = headline(&c[0]);
+        assert_eq!(h.episodes, 3);
+        assert_eq!((h.scans_min, h.scans_max), (Some(2), Some(4)));
+        assert!((h.scans_mean.unwrap() - 3.0).abs() < 1e-12);
+        // 90 %: scans 2, 2, 4 → 8/3; 99 %: scans 3 and 4 (the second never got there).
+        assert!((h.scans_to_90_mean.unwrap() - 8.0 / 3.0).abs() < 1e-12);
+        assert!((h.scans_to_99_mean.unwrap() - 3.5).abs() < 1e-12);
+        let md = markdown_table(std::slice::from_ref(&h));
+        assert!(
+            md.lines()
+                .nth(2)
+                .unwrap()
+                .starts_with("| site | 3 | 3.0 ± 1.0 |"),
+            "{md}"
+        );
+        let csv = String::from_utf8(csv_table(&[h]).unwrap()).unwrap();
+        assert_eq!(csv.lines().count(), 2);
+    }
+}

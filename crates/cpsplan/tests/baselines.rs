@@ -1,0 +1,110 @@
+//! The baseline planners (`parent.planner = "frontier"` and `"gain"`): at every
+//! step of episodes on the built-in maps they choose what their rule says, and
+//! they explore the maps to the end.
+
+use cpsplan::config::Planner;
+use cpsplan::parent::{frontier_goals, CandidateOrigin, Decision};
+use cpsplan::world::builtin::BuiltinMap;
+use cpsplan::{run_episode_with, Config};
+
+fn config(planner: Planner) -> Config {
+    let mut c = Config::default();
+    c.children.count = 0;
+    c.parent.planner = planner;
+    c
+}
+
+#[test]
+fn the_frontier_baseline_takes_the_cheapest_frontier_worth_a_scan() {
+    for map in BuiltinMap::ALL {
+        let truth = map.generate(0);
+        let config = config(Planner::Frontier);
+        let mut targets = 0;
+        let episode = run_episode_with(&truth, map.default_start(), &config, |step, knowledge| {
+            let plan = &step.plan;
+            let Decision::Target { index } = plan.decision else {
+                return;
+            };
+            targets += 1;
+            let goals = frontier_goals(knowledge, step.cell, &config.parent);
+            let g = knowledge.geometry();
+            // The candidates are explore_lite's frontiers in cost order (each at
+            // the drivable cell nearest its centroid; a frontier whose cell
+            // another took is left out), then at most the fallback.
+            let mut next = 0;
+            for c in &plan.candidates {
+                if c.origin == CandidateOrigin::Fallback {
+                    continue;
+                }
+                assert_eq!(
+                    c.origin,
+                    CandidateOrigin::Frontier,
+                    "{map:?} scan {}",
+                    step.scan
+                );
+                let k = goals[next..]
+                    .iter()
+                    .position(|f| {
+                        let p = g.grid_to_world(
+                            f.centroid[0] * g.resolution,
+                            f.centroid[1] * g.resolution,
+                        );
+                        p == c.centroid && f.cells == c.cluster_size
+                    })
+                    .unwrap_or_else(|| {
+                        panic!(
+                            "{map:?} scan {}: candidate {:?} is no frontier",
+                            step.scan, c.cell
+                        )
+                    });
+                next += k + 1;
+            }
+            // The first one worth a scan is taken.
+            let first = plan.candidates.iter().position(|c| c.eligible);
+            assert_eq!(first, Some(index), "{map:?} scan {}", step.scan);
+        })
+        .expect("the episode runs");
+        assert!(targets >= 10, "{map:?}: {targets} targets");
+        assert!(
+            episode.summary.coverage >= 0.99,
+            "{map:?}: coverage {}",
+            episode.summary.coverage
+        );
+    }
+}
+
+#[test]
+fn the_gain_baseline_takes_the_candidate_that_sees_most() {
+    for map in BuiltinMap::ALL {
+        let truth = map.generate(0);
+        let config = config(Planner::Gain);
+        let mut farther = 0;
+        let episode = run_episode_with(&truth, map.default_start(), &config, |step, _| {
+            let plan = &step.plan;
+            let Some(t) = plan.target() else { return };
+            let most = plan
+                .candidates
+                .iter()
+                .filter(|c| c.eligible)
+                .map(|c| c.s_cells)
+                .max();
+            assert_eq!(Some(t.s_cells), most, "{map:?} scan {}", step.scan);
+            let nearest = plan
+                .candidates
+                .iter()
+                .filter(|c| c.eligible)
+                .filter_map(|c| c.l_m)
+                .fold(f64::INFINITY, f64::min);
+            if t.l_m.is_some_and(|l| l > nearest) {
+                farther += 1;
+            }
+        })
+        .expect("the episode runs");
+        assert!(farther > 0, "{map:?}: distance never gave way to gain");
+        assert!(
+            episode.summary.coverage >= 0.99,
+            "{map:?}: coverage {}",
+            episode.summary.coverage
+        );
+    }
+}
