@@ -108,3 +108,58 @@ fn the_gain_baseline_takes_the_candidate_that_sees_most() {
         );
     }
 }
+
+/// With children, each move goes to the planner's own choice (the first of its
+/// order of preference) unless no CPS move reaches it: the team scans where the
+/// planner alone would.
+#[test]
+fn the_team_moves_to_each_planner_s_choice() {
+    let truth = BuiltinMap::Site.generate(0);
+    for planner in Planner::ALL {
+        let mut team = config(planner);
+        team.children.count = 2;
+        team.mission.max_scans = 14;
+        let mut alone = team;
+        alone.children.count = 0;
+        let mut moves = 0;
+        let with = run_episode_with(
+            &truth,
+            BuiltinMap::Site.default_start(),
+            &team,
+            |step, _| {
+                let plan = &step.plan;
+                let Decision::Target { index } = plan.decision else {
+                    return;
+                };
+                let order = plan.preference(planner);
+                assert_eq!(
+                    order.first(),
+                    Some(&index),
+                    "{planner:?} scan {}",
+                    step.scan
+                );
+                if step.movement.rejected.is_empty() && !step.movement.cycles.is_empty() {
+                    assert_eq!(
+                        step.movement.target,
+                        Some(index),
+                        "{planner:?} scan {}",
+                        step.scan
+                    );
+                    moves += 1;
+                }
+            },
+        )
+        .expect("the episode runs");
+        assert!(moves >= 5, "{planner:?}: {moves} moves");
+        let without = run_episode_with(&truth, BuiltinMap::Site.default_start(), &alone, |_, _| {})
+            .expect("the episode runs");
+        if with.steps.iter().all(|s| s.movement.rejected.is_empty()) {
+            let cells = |e: &cpsplan::Episode| e.steps.iter().map(|s| s.cell).collect::<Vec<_>>();
+            assert_eq!(
+                cells(&with),
+                cells(&without),
+                "{planner:?}: the same scan positions"
+            );
+        }
+    }
+}

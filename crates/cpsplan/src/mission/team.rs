@@ -206,18 +206,7 @@ pub fn execute_move(
         retrieval: &retrieval,
         chain,
     };
-    let mut order: Vec<usize> = (0..plan.candidates.len())
-        .filter(|&i| plan.candidates[i].eligible)
-        .collect();
-    // The tour's stops in its order first, then the rest by decreasing G.
-    order.sort_by(|&a, &b| {
-        let (ca, cb) = (&plan.candidates[a], &plan.candidates[b]);
-        let rank = |c: &crate::parent::Candidate| c.tour_rank.unwrap_or(usize::MAX);
-        rank(ca)
-            .cmp(&rank(cb))
-            .then(cb.g.total_cmp(&ca.g))
-            .then(a.cmp(&b))
-    });
+    let order = plan.preference(config.parent.planner);
     let mut record = MoveRecord::default();
     // The error term: the moves to the best candidates planned, and the one with
     // the best G − γ·E taken.

@@ -88,6 +88,30 @@ impl ParentPlan {
     }
 }
 
+impl ParentPlan {
+    /// The eligible candidates in `planner`'s order of preference, the target
+    /// first: by decreasing `G` (`paper`), the tour's stops in order and then by
+    /// `G` (`tour`), in the frontiers' cost order (`frontier`: the candidates'
+    /// own order), by decreasing `S` (`gain`); ties to the lower index. A CPS move
+    /// that cannot reach the first is tried with the next (`mission`).
+    pub fn preference(&self, planner: Planner) -> Vec<usize> {
+        let c = &self.candidates;
+        let mut order: Vec<usize> = (0..c.len()).filter(|&i| c[i].eligible).collect();
+        match planner {
+            Planner::Paper | Planner::Tour => order.sort_by(|&a, &b| {
+                let rank = |k: usize| c[k].tour_rank.unwrap_or(usize::MAX);
+                rank(a)
+                    .cmp(&rank(b))
+                    .then(c[b].g.total_cmp(&c[a].g))
+                    .then(a.cmp(&b))
+            }),
+            Planner::Frontier => {}
+            Planner::Gain => order.sort_by_key(|&k| (std::cmp::Reverse(c[k].s_cells), k)),
+        }
+        order
+    }
+}
+
 /// Plans the parent's next scan position on `knowledge` from `parent`.
 pub fn plan_parent(
     knowledge: &OccupancyGrid,
