@@ -378,6 +378,11 @@ pub struct ExploreArgs {
     /// directory (repeat the flag or give a comma list: 2,5,9).
     #[arg(long, value_name = "N", value_delimiter = ',', value_parser = parse_scan_number, allow_hyphen_values = true)]
     pub step_figure: Vec<usize>,
+    /// Also write `report.html`: one self-contained page that steps through the
+    /// scans (map, robots, paths, AND regions, candidates, error ellipses, plots
+    /// and the summary), viewable offline in any browser.
+    #[arg(long)]
+    pub html: bool,
     /// Write the registered 3D model: every scan's points in the pose the CPS
     /// estimated (.las, .laz or .ply), with its stations beside it as
     /// NAME-stations.ply.

@@ -4,5 +4,6 @@ pub mod cli;
 pub mod commands;
 pub mod experiment;
 pub mod formats;
+pub mod html;
 pub mod render;
 pub mod report;

@@ -251,7 +251,7 @@ pub fn model_csv(accuracy: &ModelAccuracy) -> Result<Vec<u8>> {
 }
 
 /// Every file name a report may hold (besides `step-NNN.png`).
-pub const REPORT_FILES: [&str; 12] = [
+pub const REPORT_FILES: [&str; 13] = [
     "summary.json",
     "episode.json",
     "metrics.csv",
@@ -264,6 +264,7 @@ pub const REPORT_FILES: [&str; 12] = [
     "knowledge.yaml",
     "bound.json",
     "bound.png",
+    "report.html",
 ];
 
 /// Whether `name` is a file a report may hold.

@@ -536,6 +536,15 @@ fn the_report_draws_every_condition_and_tabulates_it() {
             );
         }
     }
+    // All of it in one page, charts inline, nothing fetched.
+    let page = std::fs::read_to_string(report.join("report.html")).unwrap();
+    assert_eq!(page.matches("<svg").count(), 10);
+    assert_eq!(
+        page.matches("<tr>").count(),
+        5,
+        "a header and a row per condition"
+    );
+    assert!(!page.contains("src=") && !page.contains("href="));
     // The error chart has only the team's line: the parent alone has no CPS chain.
     let svg = std::fs::read_to_string(report.join("error-site.svg")).unwrap();
     assert!(svg.contains("team (2 ep.)") && !svg.contains("alone (2 ep.)"));

@@ -123,7 +123,13 @@ pub fn run(args: &ExploreArgs) -> Result<()> {
     let t0 = Instant::now();
     let mut figures: Vec<(usize, Vec<u8>)> = Vec::new();
     let mut figure_error = None;
+    let mut page = args
+        .html
+        .then(|| crate::html::PageRecorder::new(*truth.geometry()));
     let episode = run_episode_with(&truth, start, &config, |step, knowledge| {
+        if let Some(page) = page.as_mut() {
+            page.record(step, knowledge, &config);
+        }
         bar.set_message(format!(
             "scan {} · coverage {:.1} % · walls {:.1} %",
             step.scan,
@@ -176,6 +182,11 @@ pub fn run(args: &ExploreArgs) -> Result<()> {
     )?;
     for (scan, png) in &figures {
         write_atomic(&report.path().join(step_figure_name(*scan)), png)?;
+    }
+    if let Some(page) = &page {
+        let title = format!("cpsplan explore \u{2014} {}", source.label());
+        let html = crate::html::episode_page(&episode, page, &title, &source.label())?;
+        write_atomic(&report.path().join("report.html"), html.as_bytes())?;
     }
     report.commit()?;
     if let (Some(path), Some((cloud, stations))) = (&args.cloud_out, cloud) {

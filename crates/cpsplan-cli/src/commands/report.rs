@@ -4,8 +4,9 @@
 //! travel, predicted error, campaign time) and coverage against travel, each
 //! condition a line (the median over its seeds) over a band (their quartiles), as
 //! SVG and PNG; the headline figures of every condition as Markdown
-//! (`summary.md`, with the charts) and CSV (`summary.csv`). Written whole into
-//! `--out` (default `DIR/report`).
+//! (`summary.md`, with the charts) and CSV (`summary.csv`), and all of it in
+//! one self-contained page (`report.html`, the charts inline). Written whole
+//! into `--out` (default `DIR/report`).
 
 use std::path::PathBuf;
 
@@ -13,11 +14,22 @@ use anyhow::{bail, Result};
 
 use crate::cli::ReportArgs;
 use crate::experiment::summary::{
-    conditions, csv_table, curve, curve_against, headline, markdown_table, Condition, Metric,
+    conditions, csv_table, curve, curve_against, escape, headline, html_table, markdown_table,
+    Condition, Metric,
 };
 use crate::experiment::{EpisodeRecord, ExperimentDir};
 use crate::render::{Chart, Series, SERIES_COLOURS};
 use crate::report::{write_atomic, ReportDir};
+
+/// The page's style sheet.
+const STYLE: &str =
+    "body{font:14px/1.45 system-ui,sans-serif;color:#1f2933;margin:20px;max-width:1400px}\
+table{border-collapse:collapse;font-variant-numeric:tabular-nums}\
+td,th{border-bottom:1px solid #d9e2ec;padding:4px 8px;text-align:right;white-space:nowrap}\
+.wide{overflow-x:auto}\
+td:first-child,th:first-child{text-align:left}th{background:#f5f7fa}\
+.charts{display:grid;grid-template-columns:repeat(auto-fill,minmax(560px,1fr));gap:12px}\
+figure{margin:0}figure svg{width:100%;height:auto;border:1px solid #d9e2ec;border-radius:6px}";
 
 /// The per-scan figures drawn against the scan number.
 const METRICS: [Metric; 4] = [
@@ -31,6 +43,7 @@ const METRICS: [Metric; 4] = [
 fn is_report_file(name: &str) -> bool {
     name == "summary.md"
         || name == "summary.csv"
+        || name == "report.html"
         || [".svg", ".png"].iter().any(|ext| name.ends_with(ext))
 }
 
@@ -105,10 +118,29 @@ pub fn run(args: &ReportArgs) -> Result<()> {
     );
     let rows: Vec<_> = all.iter().map(headline).collect();
     md.push_str(&markdown_table(&rows));
+    let mut html = format!(
+        "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n\
+         <title>{name}</title>\n<style>{STYLE}</style>\n</head>\n<body>\n<h1>Experiment <code>{name}</code></h1>\n\
+         <p>{description}</p>\n<p>{count}</p>\n<h2>Headline figures</h2>\n<p>Means over the seeds of each \
+         condition (± the standard deviation); \u{201c}to 90 %\u{201d}: scans until 90 % of the reachable free \
+         space was covered.</p>\n<div class=\"wide\">{table}</div>",
+        name = escape(&plan.name),
+        description = escape(&plan.description),
+        count = escape(&format!(
+            "{} of {} episodes recorded.",
+            records.len(),
+            plan.episodes.len()
+        )),
+        table = html_table(&rows),
+    );
     let mut files: Vec<(PathBuf, Vec<u8>)> = Vec::new();
     for map in &maps {
         let here: Vec<&Condition<'_>> = all.iter().filter(|c| c.map == *map).collect();
         md.push_str(&format!("\n## {map}\n\n"));
+        html.push_str(&format!(
+            "<h2>{}</h2>\n<div class=\"charts\">\n",
+            escape(map)
+        ));
         let subtitle = "median over the seeds, band: their middle half; \
                         an ended episode keeps its last value"
             .to_string();
@@ -146,18 +178,20 @@ pub fn run(args: &ReportArgs) -> Result<()> {
             ));
         }
         for (name, chart) in charts {
-            files.push((
-                PathBuf::from(format!("{name}.svg")),
-                chart.svg().into_bytes(),
-            ));
+            let svg = chart.svg();
+            html.push_str(&format!("<figure>{svg}</figure>\n"));
+            files.push((PathBuf::from(format!("{name}.svg")), svg.into_bytes()));
             files.push((PathBuf::from(format!("{name}.png")), chart.png()?));
             md.push_str(&format!("![{name}]({name}.png)\n\n"));
         }
+        html.push_str("</div>\n");
     }
     for (name, bytes) in &files {
         write_atomic(&report.path().join(name), bytes)?;
     }
+    html.push_str("</body>\n</html>\n");
     write_atomic(&report.path().join("summary.md"), md.as_bytes())?;
+    write_atomic(&report.path().join("report.html"), html.as_bytes())?;
     write_atomic(&report.path().join("summary.csv"), &csv_table(&rows)?)?;
     report.commit()?;
     if !args.quiet {

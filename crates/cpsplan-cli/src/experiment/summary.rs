@@ -329,6 +329,33 @@ pub fn markdown_table(rows: &[Headline]) -> String {
     out
 }
 
+/// The headline table as an HTML table (the cells of [`markdown_table`]).
+pub fn html_table(rows: &[Headline]) -> String {
+    let md = markdown_table(rows);
+    let mut out = String::from("<table>\n");
+    for (k, line) in md.lines().enumerate() {
+        if k == 1 {
+            continue; // the Markdown alignment row
+        }
+        let tag = if k == 0 { "th" } else { "td" };
+        out.push_str("<tr>");
+        for cell in line.trim().trim_matches('|').split('|') {
+            out.push_str(&format!("<{tag}>{}</{tag}>", escape(cell.trim())));
+        }
+        out.push_str("</tr>\n");
+    }
+    out.push_str("</table>\n");
+    out
+}
+
+/// `text` safe inside HTML.
+pub fn escape(text: &str) -> String {
+    text.replace('&', "&amp;")
+        .replace('<', "&lt;")
+        .replace('>', "&gt;")
+        .replace('"', "&quot;")
+}
+
 /// The headline table as CSV.
 pub fn csv_table(rows: &[Headline]) -> anyhow::Result<Vec<u8>> {
     let mut w = csv::Writer::from_writer(Vec::new());

@@ -1,0 +1,413 @@
+//! The HTML report of an episode (`explore --html`, `report.html`): one
+//! self-contained page, no network, that steps through the scans with a slider
+//! or a player. It shows the knowledge map as it grew, the parent's paths and
+//! scan positions, the children and their paths, the AND regions of each move's
+//! cycles, the candidates of each planning round by their `G`, the error
+//! ellipses, plots of coverage, error and travel with the current scan marked,
+//! and the summary.
+//!
+//! The map travels as one deflated raster of, per cell, the scan that first saw
+//! it and its final state (three bytes), so any scan's map is drawn from it in
+//! one pass; AND regions travel as row runs on a grid coarsened to at most
+//! 96 cells a side.
+
+use std::io::Write as _;
+
+use anyhow::Result;
+use base64::Engine as _;
+use cpsplan::mission::{cycle_and_regions, Episode, Step};
+use cpsplan::{CellState, Config, GridGeometry, OccupancyGrid, Point};
+use serde::Serialize;
+
+/// The longer side of an AND region's grid, at most, in cells.
+const AND_CELLS: usize = 96;
+
+/// The page, with `__TITLE__` and `__DATA__` to fill.
+const TEMPLATE: &str = include_str!("player.html");
+
+/// An AND region as row runs: `runs` holds `(row, x_start, x_end)` triples in
+/// cells of `scale` map cells from `(x0, y0)`.
+#[derive(Debug, Clone, Serialize)]
+struct Region {
+    child: usize,
+    x0: usize,
+    y0: usize,
+    scale: usize,
+    runs: Vec<u32>,
+}
+
+/// What the page needs of one step beyond the episode record.
+#[derive(Debug, Clone, Default)]
+struct StepExtras {
+    and: Vec<Region>,
+}
+
+/// Collects, while an episode runs, what its page needs from each step's
+/// knowledge map: when each cell was first seen, and the AND regions.
+#[derive(Debug)]
+pub struct PageRecorder {
+    geometry: GridGeometry,
+    first_seen: Vec<u16>,
+    steps: Vec<StepExtras>,
+}
+
+impl PageRecorder {
+    /// A recorder for episodes on grids of `geometry`.
+    pub fn new(geometry: GridGeometry) -> Self {
+        Self {
+            geometry,
+            first_seen: vec![0; geometry.len()],
+            steps: Vec::new(),
+        }
+    }
+
+    /// Records `step`, planned on `knowledge`.
+    pub fn record(&mut self, step: &Step, knowledge: &OccupancyGrid, config: &Config) {
+        let scan = u16::try_from(step.scan).unwrap_or(u16::MAX);
+        for (seen, &c) in self.first_seen.iter_mut().zip(knowledge.cells()) {
+            if *seen == 0 && c != CellState::Unknown {
+                *seen = scan;
+            }
+        }
+        let mut and = Vec::new();
+        for cycle in &step.movement.cycles {
+            for (child, mask) in cycle_and_regions(knowledge, cycle, config)
+                .into_iter()
+                .enumerate()
+            {
+                if let Some(r) = coarse_runs(&self.geometry, &mask, child) {
+                    and.push(r);
+                }
+            }
+        }
+        self.steps.push(StepExtras { and });
+    }
+}
+
+/// The runs of `mask` on a grid coarse enough that its bounding box has at most
+/// [`AND_CELLS`] cells a side (a coarse cell is in if any of its cells is).
+fn coarse_runs(g: &GridGeometry, mask: &[bool], child: usize) -> Option<Region> {
+    let w = g.width;
+    let (mut x0, mut y0, mut x1, mut y1) = (usize::MAX, usize::MAX, 0, 0);
+    for (i, _) in mask.iter().enumerate().filter(|(_, &m)| m) {
+        let (x, y) = (i % w, i / w);
+        x0 = x0.min(x);
+        y0 = y0.min(y);
+        x1 = x1.max(x);
+        y1 = y1.max(y);
+    }
+    if x0 == usize::MAX {
+        return None;
+    }
+    let span = (x1 - x0 + 1).max(y1 - y0 + 1);
+    let scale = span.div_ceil(AND_CELLS).max(1);
+    let (cw, ch) = ((x1 - x0) / scale + 1, (y1 - y0) / scale + 1);
+    let mut coarse = vec![false; cw * ch];
+    for y in y0..=y1 {
+        for x in x0..=x1 {
+            if mask[y * w + x] {
+                coarse[(y - y0) / scale * cw + (x - x0) / scale] = true;
+            }
+        }
+    }
+    let mut runs = Vec::new();
+    for row in 0..ch {
+        let cells = &coarse[row * cw..(row + 1) * cw];
+        let mut x = 0;
+        while x < cw {
+            if cells[x] {
+                let start = x;
+                while x < cw && cells[x] {
+                    x += 1;
+                }
+                runs.extend([row as u32, start as u32, x as u32]);
+            } else {
+                x += 1;
+            }
+        }
+    }
+    Some(Region {
+        child,
+        x0,
+        y0,
+        scale,
+        runs,
+    })
+}
+
+/// One step as the page reads it; points in grid cell units (x right, y up).
+#[derive(Debug, Serialize)]
+struct PageStep {
+    pos: [f64; 2],
+    world: [f64; 2],
+    coverage: f64,
+    wall_coverage: f64,
+    travel: f64,
+    sigma_mm: Option<f64>,
+    /// Semi-axes (cells, 1σ) and the major axis's angle from the grid's x axis.
+    ellipse: Option<[f64; 3]>,
+    children: Vec<[f64; 2]>,
+    /// The path driven after the scan.
+    path: Vec<[f64; 2]>,
+    child_paths: Vec<Vec<[f64; 2]>>,
+    /// `(x, y, G, eligible)`.
+    candidates: Vec<(f64, f64, f64, u8)>,
+    target: Option<usize>,
+    cycles: usize,
+    subgoals: bool,
+    and: Vec<Region>,
+}
+
+#[derive(Debug, Serialize)]
+struct PageGrid {
+    width: usize,
+    height: usize,
+    resolution: f64,
+}
+
+#[derive(Debug, Serialize)]
+struct PageData {
+    title: String,
+    subtitle: String,
+    grid: PageGrid,
+    cells: String,
+    steps: Vec<PageStep>,
+    summary: Vec<(String, String)>,
+    legend: Vec<(String, String)>,
+}
+
+/// Grid cell units of a world point.
+fn cell_units(g: &GridGeometry, p: Point) -> [f64; 2] {
+    let (x, y) = g.to_local(p);
+    [x / g.resolution, y / g.resolution]
+}
+
+/// The 1σ ellipse of a covariance (m², world frame) in cell units of `g`.
+fn ellipse(g: &GridGeometry, c: [[f64; 2]; 2]) -> Option<[f64; 3]> {
+    let (a, b, d) = (c[0][0], c[0][1], c[1][1]);
+    if !(a.is_finite() && b.is_finite() && d.is_finite()) {
+        return None;
+    }
+    let mean = 0.5 * (a + d);
+    let spread = (0.25 * (a - d).powi(2) + b * b).sqrt();
+    let (major, minor) = ((mean + spread).max(0.0), (mean - spread).max(0.0));
+    // The major axis's angle in the world frame, then in the grid's.
+    let angle = 0.5 * (2.0 * b).atan2(a - d) - g.yaw;
+    Some([
+        major.sqrt() / g.resolution,
+        minor.sqrt() / g.resolution,
+        angle,
+    ])
+}
+
+/// The page of `episode` (with the extras `recorder` collected as it ran).
+pub fn episode_page(
+    episode: &Episode,
+    recorder: &PageRecorder,
+    title: &str,
+    map_label: &str,
+) -> Result<String> {
+    let g = &recorder.geometry;
+    let knowledge = episode.knowledge.as_ref();
+    let mut raw = Vec::with_capacity(3 * g.len());
+    for (i, &seen) in recorder.first_seen.iter().enumerate() {
+        let state = match knowledge.map(|k| k.cells()[i]) {
+            Some(CellState::Free) => 1u8,
+            Some(CellState::Occupied) => 2,
+            _ => 0,
+        };
+        let [lo, hi] = seen.to_le_bytes();
+        raw.extend_from_slice(&[lo, hi, state]);
+    }
+    let mut z = flate2::write::ZlibEncoder::new(Vec::new(), flate2::Compression::default());
+    z.write_all(&raw)?;
+    let cells = base64::engine::general_purpose::STANDARD.encode(z.finish()?);
+    let pts = |ps: &[Point]| -> Vec<[f64; 2]> { ps.iter().map(|&p| cell_units(g, p)).collect() };
+    let children = episode.config.children.count;
+    let steps: Vec<PageStep> = episode
+        .steps
+        .iter()
+        .enumerate()
+        .map(|(k, s)| {
+            let mut child_paths = vec![Vec::new(); children];
+            for cycle in &s.movement.cycles {
+                for (c, m) in cycle.children.iter().enumerate() {
+                    if let Some(path) = child_paths.get_mut(c) {
+                        path.extend(pts(&m.path));
+                    }
+                }
+            }
+            PageStep {
+                pos: cell_units(g, s.position),
+                world: [s.position.x, s.position.y],
+                coverage: s.coverage,
+                wall_coverage: s.wall_coverage,
+                travel: s.parent_travel_m,
+                sigma_mm: s.position_sigma_m.map(|v| 1e3 * v),
+                ellipse: s.covariance_m2.and_then(|c| ellipse(g, c)),
+                children: pts(&s.children),
+                path: pts(&s.driven_path()),
+                child_paths,
+                candidates: s
+                    .plan
+                    .candidates
+                    .iter()
+                    .map(|c| {
+                        let [x, y] = cell_units(g, c.position);
+                        (x, y, c.g, u8::from(c.eligible))
+                    })
+                    .collect(),
+                target: s
+                    .plan
+                    .target()
+                    .and_then(|t| s.plan.candidates.iter().position(|c| std::ptr::eq(c, t))),
+                cycles: s.movement.cycles.len(),
+                subgoals: s.movement.subgoal_retrieval,
+                and: recorder
+                    .steps
+                    .get(k)
+                    .map(|e| e.and.clone())
+                    .unwrap_or_default(),
+            }
+        })
+        .collect();
+    let s = &episode.summary;
+    let mm = |v: Option<f64>| v.map_or("—".into(), |v| format!("{:.1} mm", 1e3 * v));
+    let summary = vec![
+        ("map".into(), map_label.to_string()),
+        ("scans".into(), s.scans.to_string()),
+        ("coverage".into(), format!("{:.2} %", 100.0 * s.coverage)),
+        (
+            "walls seen".into(),
+            format!("{:.2} %", 100.0 * s.wall_coverage),
+        ),
+        (
+            "parent travel".into(),
+            format!("{:.1} m", s.parent_travel_m),
+        ),
+        (
+            "children's travel".into(),
+            if s.child_travel_m.is_empty() {
+                "—".into()
+            } else {
+                s.child_travel_m
+                    .iter()
+                    .map(|t| format!("{t:.0}"))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+                    + " m"
+            },
+        ),
+        ("CPS cycles".into(), s.cps_cycles.to_string()),
+        (
+            "moves with subgoals".into(),
+            s.subgoal_retrievals.to_string(),
+        ),
+        ("final error (1σ)".into(), mm(s.final_position_sigma_m)),
+        (
+            "error / travel".into(),
+            s.error_percent_of_travel
+                .map_or("—".into(), |p| format!("{p:.4} %")),
+        ),
+        (
+            "campaign time".into(),
+            format!("{:.1} h", s.campaign_time_h),
+        ),
+        ("stop".into(), s.stop_reason.name().to_string()),
+        ("planner".into(), s.planner.name().to_string()),
+        (
+            "children, strategy".into(),
+            format!("{children}, {}", episode.config.children.strategy.name()),
+        ),
+        ("instrument".into(), s.instrument.clone()),
+        ("seed".into(), s.seed.to_string()),
+    ];
+    let mut legend = vec![
+        ("parent's path".into(), "#1f77b4".into()),
+        ("the next move".into(), "#d62728".into()),
+        ("scan".into(), "#ff7f0e".into()),
+        ("the parent at this scan (square)".into(), "#1b7a1b".into()),
+        (
+            "candidates by G (green best, grey not eligible; ringed: the next target)".into(),
+            "#78c850".into(),
+        ),
+        ("error ellipse".into(), "#6a3d9a".into()),
+    ];
+    for c in 0..children {
+        let colour = [
+            "#9467bd", "#17becf", "#8c564b", "#e377c2", "#bcbd22", "#7f7f7f", "#ff7f0e", "#2ca02c",
+        ][c % 8];
+        legend.push((format!("child {}, its AND region", c + 1), colour.into()));
+    }
+    let data = PageData {
+        title: title.to_string(),
+        subtitle: format!(
+            "{} scans \u{b7} coverage {:.1} % \u{b7} parent travel {:.0} m \u{b7} {} \u{b7} {} \u{d7} {} cells of {} m",
+            s.scans,
+            100.0 * s.coverage,
+            s.parent_travel_m,
+            s.stop_reason.name(),
+            g.width,
+            g.height,
+            g.resolution
+        ),
+        grid: PageGrid {
+            width: g.width,
+            height: g.height,
+            resolution: g.resolution,
+        },
+        cells,
+        steps,
+        summary,
+        legend,
+    };
+    // `</` never appears inside the script element: JSON escapes it as `<\/`.
+    let json = serde_json::to_string(&data)?.replace("</", "<\\/");
+    Ok(TEMPLATE
+        .replace("__TITLE__", &escape_html(title))
+        .replace("__DATA__", &json))
+}
+
+fn escape_html(text: &str) -> String {
+    text.replace('&', "&amp;")
+        .replace('<', "&lt;")
+        .replace('>', "&gt;")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn and_regions_become_row_runs_on_a_coarse_grid() {
+        let g = GridGeometry::new(300, 200, 0.1, Point::new(0.0, 0.0));
+        let mut mask = vec![false; g.len()];
+        // A 200 × 10 block from (50, 20), and one cell at (249, 29).
+        for y in 20..30 {
+            for x in 50..250 {
+                mask[y * 300 + x] = true;
+            }
+        }
+        let r = coarse_runs(&g, &mask, 1).unwrap();
+        assert_eq!((r.child, r.x0, r.y0), (1, 50, 20));
+        assert_eq!(r.scale, 3, "200 cells fit 96 at a scale of 3");
+        // Rows 20..30 fall in coarse rows 0..=3, each one run over all 67 columns.
+        assert_eq!(r.runs.len(), 4 * 3);
+        for (k, run) in r.runs.chunks(3).enumerate() {
+            assert_eq!(run, [k as u32, 0, 67]);
+        }
+        assert!(coarse_runs(&g, &vec![false; g.len()], 0).is_none());
+    }
+
+    #[test]
+    fn ellipses_follow_the_covariance() {
+        let g = GridGeometry::new(10, 10, 0.1, Point::new(0.0, 0.0));
+        // σx = 0.2 m, σy = 0.1 m: 2 and 1 cells, along x.
+        let e = ellipse(&g, [[0.04, 0.0], [0.0, 0.01]]).unwrap();
+        assert!((e[0] - 2.0).abs() < 1e-9 && (e[1] - 1.0).abs() < 1e-9 && e[2].abs() < 1e-12);
+        // Along y.
+        let e = ellipse(&g, [[0.01, 0.0], [0.0, 0.04]]).unwrap();
+        assert!((e[2].abs() - std::f64::consts::FRAC_PI_2).abs() < 1e-9);
+        assert!(ellipse(&g, [[f64::NAN, 0.0], [0.0, 1.0]]).is_none());
+    }
+}

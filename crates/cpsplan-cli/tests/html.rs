@@ -1,0 +1,170 @@
+//! `explore --html`: one self-contained page (no network) holding every scan,
+//! checked in headless Chromium where it is installed: the page renders the
+//! map, and stepping through the scans changes it.
+
+use std::path::{Path, PathBuf};
+
+use assert_cmd::Command;
+use serde_json::Value;
+
+/// Headless Chromium, or `None` after saying, past the test harness's capture,
+/// that `test` is skipped.
+fn chromium(test: &str) -> Option<PathBuf> {
+    let names = [
+        "chromium",
+        "chromium-browser",
+        "google-chrome",
+        "google-chrome-stable",
+    ];
+    let path = std::env::var_os("PATH").unwrap_or_default();
+    for dir in std::env::split_paths(&path) {
+        for name in names {
+            let candidate = dir.join(name);
+            if candidate.is_file() {
+                return Some(candidate);
+            }
+        }
+    }
+    use std::io::Write as _;
+    let _ = writeln!(
+        std::io::stderr(),
+        "SKIPPED {test}: needs headless Chromium (Debian package `chromium`; .ci/run installs it)"
+    );
+    None
+}
+
+fn page(dir: &Path, scans: &str) -> (PathBuf, String) {
+    Command::cargo_bin("cpsplan")
+        .expect("binary built")
+        .args(["explore", "-q", "--html", "--max-scans", scans, "--out"])
+        .arg(dir)
+        .assert()
+        .success();
+    let path = dir.join("report.html");
+    let html = std::fs::read_to_string(&path).expect("report.html");
+    (path, html)
+}
+
+fn data(html: &str) -> Value {
+    let open = "<script id=\"data\" type=\"application/json\">";
+    let start = html.find(open).expect("the data element") + open.len();
+    let end = start + html[start..].find("</script>").expect("its end");
+    serde_json::from_str(&html[start..end]).expect("the data are JSON")
+}
+
+#[test]
+fn the_page_is_self_contained_and_holds_every_scan() {
+    let tmp = tempfile::tempdir().unwrap();
+    let (_, html) = page(&tmp.path().join("out"), "6");
+    for remote in ["src=\"http", "href=\"http", "url(http", "import(", "fetch("] {
+        assert!(
+            !html.contains(remote),
+            "the page loads nothing: found {remote}"
+        );
+    }
+    let d = data(&html);
+    assert_eq!(d["grid"]["width"], 800);
+    assert_eq!(d["grid"]["height"], 600);
+    let steps = d["steps"].as_array().unwrap();
+    assert_eq!(steps.len(), 6);
+    let summary: Value = serde_json::from_str(
+        &std::fs::read_to_string(tmp.path().join("out/summary.json")).unwrap(),
+    )
+    .unwrap();
+    let last = &steps[5];
+    assert_eq!(last["coverage"], summary["coverage"]);
+    assert_eq!(last["travel"].as_f64(), summary["parent_travel_m"].as_f64());
+    // The default team: two children, their AND regions and the error of each scan.
+    assert_eq!(last["children"].as_array().unwrap().len(), 2);
+    assert!(steps
+        .iter()
+        .any(|s| !s["and"].as_array().unwrap().is_empty()));
+    assert!(steps[1..]
+        .iter()
+        .all(|s| s["sigma_mm"].is_f64() && s["ellipse"].is_array()));
+    // The raster: three bytes per cell, deflated.
+    use base64::Engine as _;
+    let z = base64::engine::general_purpose::STANDARD
+        .decode(d["cells"].as_str().unwrap())
+        .unwrap();
+    let mut raw = Vec::new();
+    use std::io::Read as _;
+    flate2::read::ZlibDecoder::new(&z[..])
+        .read_to_end(&mut raw)
+        .unwrap();
+    assert_eq!(raw.len(), 3 * 800 * 600);
+    let seen: Vec<u16> = raw
+        .chunks(3)
+        .map(|c| u16::from_le_bytes([c[0], c[1]]))
+        .collect();
+    assert!(seen.iter().all(|&s| s <= 6));
+    assert!(seen.contains(&1) && seen.contains(&6));
+    // A cell seen at all is known at the end.
+    assert!(raw.chunks(3).all(|c| (c[0] | c[1] == 0) == (c[2] == 0)));
+}
+
+/// Pixels of the page's colours for free, occupied and unknown cells in `png`.
+fn colours(png: &Path) -> [usize; 3] {
+    let img = image::open(png).expect("a screenshot").to_rgb8();
+    let mut n = [0usize; 3];
+    for p in img.pixels() {
+        match p.0 {
+            [255, 255, 255] => n[0] += 1,
+            [31, 41, 51] => n[1] += 1,
+            [203, 210, 217] => n[2] += 1,
+            _ => {}
+        }
+    }
+    n
+}
+
+#[test]
+fn chromium_renders_the_map_and_stepping_changes_it() {
+    let Some(chrome) = chromium("chromium_renders_the_map_and_stepping_changes_it") else {
+        return;
+    };
+    let tmp = tempfile::tempdir().unwrap();
+    let (path, _) = page(&tmp.path().join("out"), "8");
+    let url = |hash: &str| format!("file://{}#{hash}", path.display());
+    let run = |args: &[String]| {
+        let out = std::process::Command::new(&chrome)
+            .args([
+                "--headless",
+                "--no-sandbox",
+                "--disable-gpu",
+                "--hide-scrollbars",
+                "--window-size=1400,1000",
+                "--virtual-time-budget=20000",
+            ])
+            .args(args)
+            .output()
+            .expect("chromium runs");
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        String::from_utf8_lossy(&out.stdout).into_owned()
+    };
+    // The script ran to the end and shows the asked-for scan.
+    let dom = run(&["--dump-dom".into(), url("step=3")]);
+    assert!(
+        dom.contains("data-ready=\"1\""),
+        "the page did not finish loading"
+    );
+    assert!(dom.contains("scan 3 of 8"), "the step label");
+    assert!(dom.contains("Coverage, %") && dom.contains("<td>CPS cycles</td>"));
+    // Screenshots at the first and the last scan.
+    let first = tmp.path().join("first.png");
+    let last = tmp.path().join("last.png");
+    run(&[format!("--screenshot={}", first.display()), url("step=1")]);
+    run(&[format!("--screenshot={}", last.display()), url("step=8")]);
+    let (a, b) = (colours(&first), colours(&last));
+    // The map is drawn: free, occupied and unknown cells in their colours.
+    for (k, name) in ["free", "occupied", "unknown"].iter().enumerate() {
+        assert!(a[k] > 200 && b[k] > 200, "{name} pixels: {a:?} {b:?}");
+    }
+    // Stepping on shows more of the map: fewer unknown pixels, more free ones.
+    assert!(b[2] * 10 < a[2] * 9, "unknown pixels {} -> {}", a[2], b[2]);
+    assert!(b[0] > a[0], "free pixels {} -> {}", a[0], b[0]);
+}
