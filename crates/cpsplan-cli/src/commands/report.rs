@@ -14,10 +14,11 @@ use anyhow::{bail, Result};
 
 use crate::cli::ReportArgs;
 use crate::experiment::summary::{
-    conditions, csv_table, curve, curve_against, escape, headline, html_table, markdown_table,
-    Condition, Metric,
+    conditions, csv_table, curve, curve_against, headline, html_table, markdown_table, Condition,
+    Metric,
 };
 use crate::experiment::{EpisodeRecord, ExperimentDir};
+use crate::html::escape;
 use crate::render::{Chart, Series, SERIES_COLOURS};
 use crate::report::{write_atomic, ReportDir};
 

@@ -27,6 +27,7 @@ use cpsplan::world::builtin::BuiltinMap;
 use cpsplan::{Config, Point};
 use serde::{Deserialize, Serialize};
 
+use crate::formats::config::one_line;
 use crate::formats::rosmap::{read_text, FormatError};
 
 /// The most episodes one experiment file may describe.
@@ -192,15 +193,6 @@ pub fn parse_plan(text: &str, path: &Path) -> Result<Plan, SpecError> {
         message: one_line(&e.to_string()),
     })?;
     expand(file, path)
-}
-
-fn one_line(message: &str) -> String {
-    message
-        .lines()
-        .map(str::trim)
-        .filter(|l| !l.is_empty())
-        .collect::<Vec<_>>()
-        .join("; ")
 }
 
 /// The values of one axis: the given ones, or the configuration's own (`None`).

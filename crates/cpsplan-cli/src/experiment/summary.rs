@@ -5,6 +5,7 @@
 use serde::Serialize;
 
 use super::record::{EpisodeRecord, Outcome, ScanRecord};
+use crate::html::escape;
 
 /// The episodes of one condition: the same map, start, parameter set, planner,
 /// child strategy and instrument, over seeds.
@@ -346,14 +347,6 @@ pub fn html_table(rows: &[Headline]) -> String {
     }
     out.push_str("</table>\n");
     out
-}
-
-/// `text` safe inside HTML.
-pub fn escape(text: &str) -> String {
-    text.replace('&', "&amp;")
-        .replace('<', "&lt;")
-        .replace('>', "&gt;")
-        .replace('"', "&quot;")
 }
 
 /// The headline table as CSV.

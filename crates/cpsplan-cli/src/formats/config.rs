@@ -140,7 +140,7 @@ fn collect_keys(table: &toml::Table, prefix: &str, out: &mut BTreeSet<String>) {
 }
 
 /// A message on one line: line breaks become "; ".
-fn one_line(message: &str) -> String {
+pub(crate) fn one_line(message: &str) -> String {
     message
         .lines()
         .map(str::trim)

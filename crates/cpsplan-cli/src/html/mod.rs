@@ -16,6 +16,7 @@ use std::io::Write as _;
 use anyhow::Result;
 use base64::Engine as _;
 use cpsplan::mission::{cycle_and_regions, Episode, Step};
+use cpsplan::parent::Decision;
 use cpsplan::{CellState, Config, GridGeometry, OccupancyGrid, Point};
 use serde::Serialize;
 
@@ -257,10 +258,10 @@ pub fn episode_page(
                         (x, y, c.g, u8::from(c.eligible))
                     })
                     .collect(),
-                target: s
-                    .plan
-                    .target()
-                    .and_then(|t| s.plan.candidates.iter().position(|c| std::ptr::eq(c, t))),
+                target: match s.plan.decision {
+                    Decision::Target { index } => Some(index),
+                    _ => None,
+                },
                 cycles: s.movement.cycles.len(),
                 subgoals: s.movement.subgoal_retrieval,
                 and: recorder
@@ -364,14 +365,16 @@ pub fn episode_page(
     // `</` never appears inside the script element: JSON escapes it as `<\/`.
     let json = serde_json::to_string(&data)?.replace("</", "<\\/");
     Ok(TEMPLATE
-        .replace("__TITLE__", &escape_html(title))
+        .replace("__TITLE__", &escape(title))
         .replace("__DATA__", &json))
 }
 
-fn escape_html(text: &str) -> String {
+/// `text` safe inside HTML (text and attribute values).
+pub fn escape(text: &str) -> String {
     text.replace('&', "&amp;")
         .replace('<', "&lt;")
         .replace('>', "&gt;")
+        .replace('"', "&quot;")
 }
 
 #[cfg(test)]

@@ -228,21 +228,27 @@ impl Chart {
     }
 }
 
+/// The path through `points`, closed if `close`; `None` for fewer than two.
+fn path_through(points: &[(f64, f64)], close: bool) -> Option<tiny_skia::Path> {
+    let (first, rest) = points.split_first()?;
+    let mut pb = PathBuilder::new();
+    pb.move_to(first.0 as f32, first.1 as f32);
+    for p in rest {
+        pb.line_to(p.0 as f32, p.1 as f32);
+    }
+    if close {
+        pb.close();
+    }
+    pb.finish()
+}
+
 impl Surface for Canvas {
     fn rect(&mut self, x: f64, y: f64, w: f64, h: f64, c: Rgb) {
         self.fill_rect(x as i64, y as i64, w as i64, h as i64, c);
     }
 
     fn polyline(&mut self, points: &[(f64, f64)], c: Rgb, width: f64, dashed: bool) {
-        let Some((first, rest)) = points.split_first() else {
-            return;
-        };
-        let mut pb = PathBuilder::new();
-        pb.move_to(first.0 as f32, first.1 as f32);
-        for p in rest {
-            pb.line_to(p.0 as f32, p.1 as f32);
-        }
-        if let Some(path) = pb.finish() {
+        if let Some(path) = path_through(points, false) {
             if dashed {
                 self.stroke_dashed(&path, c, 255, width as f32, 10.0);
             } else {
@@ -252,16 +258,7 @@ impl Surface for Canvas {
     }
 
     fn polygon(&mut self, points: &[(f64, f64)], c: Rgb, alpha: u8) {
-        let Some((first, rest)) = points.split_first() else {
-            return;
-        };
-        let mut pb = PathBuilder::new();
-        pb.move_to(first.0 as f32, first.1 as f32);
-        for p in rest {
-            pb.line_to(p.0 as f32, p.1 as f32);
-        }
-        pb.close();
-        if let Some(path) = pb.finish() {
+        if let Some(path) = path_through(points, true) {
             self.fill_path(&path, c, alpha);
         }
     }
