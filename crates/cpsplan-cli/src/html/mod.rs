@@ -362,11 +362,17 @@ pub fn episode_page(
         summary,
         legend,
     };
-    // `</` never appears inside the script element: JSON escapes it as `<\/`.
-    let json = serde_json::to_string(&data)?.replace("</", "<\\/");
+    let json = script_json(&data)?;
     Ok(TEMPLATE
         .replace("__TITLE__", &escape(title))
         .replace("__DATA__", &json))
+}
+
+/// `data` as JSON to stand inside a `<script>` element: with no `<` in it (no
+/// `</script>`, no `<!--`), which in JSON can stand only inside strings, where
+/// `\u003c` means the same.
+fn script_json(data: &impl Serialize) -> Result<String> {
+    Ok(serde_json::to_string(data)?.replace('<', "\\u003c"))
 }
 
 /// `text` safe inside HTML (text and attribute values).
@@ -400,6 +406,15 @@ mod tests {
             assert_eq!(run, [k as u32, 0, 67]);
         }
         assert!(coarse_runs(&g, &vec![false; g.len()], 0).is_none());
+    }
+
+    #[test]
+    fn the_data_cannot_end_their_script_element() {
+        let label = "map </script><!-- <b>";
+        let json = script_json(&vec![label]).unwrap();
+        assert!(!json.contains('<'), "{json}");
+        let back: Vec<String> = serde_json::from_str(&json).unwrap();
+        assert_eq!(back, [label]);
     }
 
     #[test]
