@@ -15,6 +15,7 @@
 
 use std::collections::VecDeque;
 
+use super::border::flood_group;
 use crate::config::ParentConfig;
 use crate::geom::Cell;
 use crate::grid::{CellState, GridGeometry, OccupancyGrid};
@@ -54,7 +55,7 @@ pub fn frontier_goals(
     let mut frontier = vec![false; n];
     let mut goals = Vec::new();
     let mut queue = VecDeque::from([start]);
-    let mut group = VecDeque::new();
+    let mut group = Vec::new();
     visited[start] = true;
     let (px, py) = (parent.x as f64, parent.y as f64);
     let is_new_frontier = |i: usize, frontier: &[bool]| {
@@ -71,21 +72,20 @@ pub fn frontier_goals(
                 // A new frontier: its 8-connected Unknown cells with a Free
                 // 4-neighbour.
                 frontier[j] = true;
-                group.push_back(j);
-                let (mut cells, mut sx, mut sy) = (0usize, 0.0, 0.0);
-                let mut nearest = f64::INFINITY;
-                while let Some(f) = group.pop_front() {
+                flood_group(g, j, &mut group, |m| {
+                    let new = is_new_frontier(m, &frontier);
+                    if new {
+                        frontier[m] = true;
+                    }
+                    new
+                });
+                let cells = group.len();
+                let (mut sx, mut sy, mut nearest) = (0.0, 0.0, f64::INFINITY);
+                for &f in &group {
                     let (fx, fy) = ((f % w) as f64, (f / w) as f64);
-                    cells += 1;
                     sx += fx + 0.5;
                     sy += fy + 0.5;
                     nearest = nearest.min((fx - px).hypot(fy - py) * res);
-                    for m in neighbours8(f, w, h) {
-                        if is_new_frontier(m, &frontier) {
-                            frontier[m] = true;
-                            group.push_back(m);
-                        }
-                    }
                 }
                 if cells as f64 >= min_cells {
                     goals.push(FrontierGoal {
@@ -167,18 +167,6 @@ fn neighbours4(i: usize, w: usize, h: usize) -> impl Iterator<Item = usize> {
     ]
     .into_iter()
     .flatten()
-}
-
-fn neighbours8(i: usize, w: usize, h: usize) -> impl Iterator<Item = usize> {
-    let (x, y) = ((i % w) as i64, (i / w) as i64);
-    let (wi, hi) = (w as i64, h as i64);
-    (-1..=1)
-        .flat_map(move |dy| (-1..=1).map(move |dx| (dx, dy)))
-        .filter(|&d| d != (0, 0))
-        .filter_map(move |(dx, dy)| {
-            let (nx, ny) = (x + dx, y + dy);
-            (nx >= 0 && ny >= 0 && nx < wi && ny < hi).then(|| (ny * wi + nx) as usize)
-        })
 }
 
 #[cfg(test)]

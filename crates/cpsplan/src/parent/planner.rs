@@ -86,9 +86,7 @@ impl ParentPlan {
             _ => None,
         }
     }
-}
 
-impl ParentPlan {
     /// The eligible candidates in `planner`'s order of preference, the target
     /// first: by decreasing `G` (`paper`), the tour's stops in order and then by
     /// `G` (`tour`), in the frontiers' cost order (`frontier`: the candidates'
@@ -342,22 +340,12 @@ pub fn plan_parent_with_field(
             best = Some((i, gv));
         }
     }
-    match pc.planner {
-        // explore_lite's order: the cheapest frontier worth a scan.
-        Planner::Frontier => {
-            best = worth
-                .iter()
-                .position(|&w| w)
-                .map(|i| (i, plan.candidates[i].g))
-        }
-        // The most new cells, the first of equals.
-        Planner::Gain => {
-            best = (0..plan.candidates.len())
-                .filter(|&i| worth[i])
-                .min_by_key(|&i| (std::cmp::Reverse(plan.candidates[i].s_cells), i))
-                .map(|i| (i, plan.candidates[i].g));
-        }
-        Planner::Paper | Planner::Tour => {}
+    // The baselines take the first of their own order of preference.
+    if matches!(pc.planner, Planner::Frontier | Planner::Gain) {
+        best = plan
+            .preference(pc.planner)
+            .first()
+            .map(|&i| (i, plan.candidates[i].g));
     }
     if tour {
         let round = TourRound {
