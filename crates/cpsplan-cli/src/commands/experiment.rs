@@ -2,7 +2,7 @@
 //! record each as it finishes; and `cpsplan experiment merge`, which joins the
 //! directories of an experiment's shards.
 
-use std::collections::HashMap;
+use std::collections::{BTreeMap, HashMap};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex};
@@ -15,7 +15,9 @@ use indicatif::{ProgressBar, ProgressStyle};
 
 use super::{check_memory, load_planning_grid};
 use crate::cli::{ExperimentArgs, ExperimentCommand, MergeArgs};
-use crate::experiment::store::{record_name, CSV_FILE, PLAN_FILE, RECORDS_DIR, SPEC_FILE};
+use crate::experiment::store::{
+    record_name, refuse_filled, CSV_FILE, PLAN_FILE, RECORDS_DIR, SPEC_FILE,
+};
 use crate::experiment::{
     parse_plan, EpisodeRecord, EpisodeSpec, ExperimentDir, Outcome, PlanFile, Shard,
 };
@@ -40,14 +42,9 @@ pub fn run(args: &ExperimentArgs) -> Result<()> {
         .unwrap_or(Path::new("."));
     // Every map of the shard loaded, and every run's memory checked, before
     // anything is written.
-    let mine: Vec<&EpisodeSpec> = plan
-        .episodes
-        .iter()
-        .filter(|e| shard.holds(e.index))
-        .collect();
+    let in_shard = |e: &&EpisodeSpec| shard.holds(e.index);
+    let mine: Vec<&EpisodeSpec> = plan.episodes.iter().filter(in_shard).collect();
     let maps = MapFiles::load(&mine, experiment_dir)?;
-    let total = plan.episodes.len();
-    let mine: Vec<EpisodeSpec> = mine.into_iter().cloned().collect();
     let dir = if args.resume {
         ExperimentDir::resume(out, plan, shard)?
     } else {
@@ -60,8 +57,12 @@ pub fn run(args: &ExperimentArgs) -> Result<()> {
         }
         std::fs::remove_file(path).with_context(|| format!("cannot remove {}", path.display()))?;
     }
+    let episodes = &dir.file.plan.episodes;
+    let total = episodes.len();
+    let mine: Vec<&EpisodeSpec> = episodes.iter().filter(in_shard).collect();
     let todo: Vec<&EpisodeSpec> = mine
         .iter()
+        .copied()
         .filter(|e| !records.valid.contains_key(&e.index))
         .collect();
     let before = mine.len() - todo.len();
@@ -83,6 +84,7 @@ pub fn run(args: &ExperimentArgs) -> Result<()> {
     let next = AtomicUsize::new(0);
     let stop = AtomicBool::new(false);
     let failures: Mutex<Vec<(String, String)>> = Mutex::new(Vec::new());
+    let written: Mutex<Vec<EpisodeRecord>> = Mutex::new(Vec::new());
     let write_error: Mutex<Option<anyhow::Error>> = Mutex::new(None);
     std::thread::scope(|s| {
         for _ in 0..jobs {
@@ -105,6 +107,9 @@ pub fn run(args: &ExperimentArgs) -> Result<()> {
                     stop.store(true, Ordering::Relaxed);
                     break;
                 }
+                if let Ok(mut w) = written.lock() {
+                    w.push(record);
+                }
                 bar.set_message(spec.label.clone());
                 bar.inc(1);
             });
@@ -114,8 +119,16 @@ pub fn run(args: &ExperimentArgs) -> Result<()> {
     if let Some(e) = write_error.into_inner().ok().flatten() {
         return Err(e);
     }
-    let records = dir.records()?;
-    dir.write_csv(records.valid.values().map(|(_, r)| r))?;
+    // The records found whole before, and those written now, in episode order.
+    let mut all: BTreeMap<usize, EpisodeRecord> = records
+        .valid
+        .into_iter()
+        .map(|(index, (_, r))| (index, r))
+        .collect();
+    for r in written.into_inner().unwrap_or_default() {
+        all.insert(r.episode.index, r);
+    }
+    dir.write_csv(all.values())?;
     let failures = failures.into_inner().unwrap_or_default();
     if !args.quiet {
         let of = if shard == Shard::WHOLE {
@@ -301,14 +314,7 @@ fn merge(args: &MergeArgs) -> Result<()> {
             }
         );
     }
-    if let Ok(mut entries) = std::fs::read_dir(&args.out) {
-        if entries.next().is_some() {
-            bail!(
-                "--out {} already holds files; choose a new directory",
-                args.out.display()
-            );
-        }
-    }
+    refuse_filled(&args.out, "choose a new directory")?;
     let spec = std::fs::read(first.root().join(SPEC_FILE))
         .with_context(|| format!("cannot read {}", first.root().join(SPEC_FILE).display()))?;
     let out = ReportDir::create(&args.out)?;

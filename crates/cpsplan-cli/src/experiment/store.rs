@@ -100,17 +100,10 @@ pub struct Records {
 impl ExperimentDir {
     /// Starts a new experiment in `out`, which must be absent or empty.
     pub fn create(out: &Path, spec_text: &str, plan: Plan, shard: Shard) -> Result<Self> {
-        if let Ok(mut entries) = std::fs::read_dir(out) {
-            if entries.next().is_some() {
-                bail!(
-                    "--out {} already holds files: --resume continues the experiment there, \
-                     or choose a new directory",
-                    out.display()
-                );
-            }
-        } else if out.exists() {
-            bail!("--out {} exists and is not a directory", out.display());
-        }
+        refuse_filled(
+            out,
+            "--resume continues the experiment there, or choose a new directory",
+        )?;
         std::fs::create_dir_all(out.join(RECORDS_DIR))
             .with_context(|| format!("cannot create directory {}", out.display()))?;
         let dir = Self {
@@ -280,6 +273,16 @@ impl ExperimentDir {
         records: impl IntoIterator<Item = &'a EpisodeRecord>,
     ) -> Result<()> {
         write_atomic(&self.root.join(CSV_FILE), &episodes_csv(records)?)
+    }
+}
+
+/// Refuses an `--out` that exists and is not an empty directory; `hint` says
+/// what to do instead.
+pub fn refuse_filled(out: &Path, hint: &str) -> Result<()> {
+    match std::fs::read_dir(out).map(|mut entries| entries.next().is_some()) {
+        Ok(true) => bail!("--out {} already holds files: {hint}", out.display()),
+        Err(_) if out.exists() => bail!("--out {} exists and is not a directory", out.display()),
+        _ => Ok(()),
     }
 }
 

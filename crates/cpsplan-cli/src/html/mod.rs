@@ -20,6 +20,8 @@ use cpsplan::parent::Decision;
 use cpsplan::{CellState, Config, GridGeometry, OccupancyGrid, Point};
 use serde::Serialize;
 
+use crate::render::palette;
+
 /// The longer side of an AND region's grid, at most, in cells.
 const AND_CELLS: usize = 96;
 
@@ -175,6 +177,17 @@ struct PageData {
     steps: Vec<PageStep>,
     summary: Vec<(String, String)>,
     legend: Vec<(String, String)>,
+    colours: PageColours,
+}
+
+/// The colours the page shares with the report's pictures (`render::palette`).
+#[derive(Debug, Serialize)]
+struct PageColours {
+    path: String,
+    scan: String,
+    ellipse: String,
+    /// Child 1 first, repeated for more children.
+    children: Vec<String>,
 }
 
 /// Grid cell units of a world point.
@@ -323,22 +336,26 @@ pub fn episode_page(
         ("instrument".into(), s.instrument.clone()),
         ("seed".into(), s.seed.to_string()),
     ];
+    let colours = PageColours {
+        path: palette::TRAJECTORY.css(),
+        scan: palette::SCAN.css(),
+        ellipse: palette::ELLIPSE.css(),
+        children: palette::CHILDREN.iter().map(|c| c.css()).collect(),
+    };
     let mut legend = vec![
-        ("parent's path".into(), "#1f77b4".into()),
+        ("parent's path".into(), colours.path.clone()),
         ("the next move".into(), "#d62728".into()),
-        ("scan".into(), "#ff7f0e".into()),
+        ("scan".into(), colours.scan.clone()),
         ("the parent at this scan (square)".into(), "#1b7a1b".into()),
         (
             "candidates by G (green best, grey not eligible; ringed: the next target)".into(),
             "#78c850".into(),
         ),
-        ("error ellipse".into(), "#6a3d9a".into()),
+        ("error ellipse".into(), colours.ellipse.clone()),
     ];
     for c in 0..children {
-        let colour = [
-            "#9467bd", "#17becf", "#8c564b", "#e377c2", "#bcbd22", "#7f7f7f", "#ff7f0e", "#2ca02c",
-        ][c % 8];
-        legend.push((format!("child {}, its AND region", c + 1), colour.into()));
+        let colour = colours.children[c % colours.children.len()].clone();
+        legend.push((format!("child {}, its AND region", c + 1), colour));
     }
     let data = PageData {
         title: title.to_string(),
@@ -361,6 +378,7 @@ pub fn episode_page(
         steps,
         summary,
         legend,
+        colours,
     };
     let json = script_json(&data)?;
     Ok(TEMPLATE

@@ -17,6 +17,11 @@ impl Rgb {
         Self((v >> 16) as u8, (v >> 8) as u8, v as u8)
     }
 
+    /// As CSS and SVG write it: `#rrggbb`.
+    pub fn css(self) -> String {
+        format!("#{:02x}{:02x}{:02x}", self.0, self.1, self.2)
+    }
+
     /// This colour blended over `under` with opacity `alpha` (0–255).
     pub fn over(self, under: Rgb, alpha: u8) -> Rgb {
         let a = u32::from(alpha);

@@ -9,6 +9,7 @@ use tiny_skia::PathBuilder;
 use super::canvas::{text_width, Canvas, Rgb};
 use super::palette;
 use super::RenderError;
+use crate::html::escape;
 
 /// Colours for the series of a chart, in order (Tableau 10).
 pub const SERIES_COLOURS: [(u8, u8, u8); 10] = [
@@ -277,23 +278,12 @@ impl Surface for Canvas {
 /// An SVG document being written.
 struct Svg(String);
 
-fn hex(c: Rgb) -> String {
-    format!("#{:02x}{:02x}{:02x}", c.0, c.1, c.2)
-}
-
-fn escape(text: &str) -> String {
-    text.replace('&', "&amp;")
-        .replace('<', "&lt;")
-        .replace('>', "&gt;")
-        .replace('"', "&quot;")
-}
-
 impl Surface for Svg {
     fn rect(&mut self, x: f64, y: f64, w: f64, h: f64, c: Rgb) {
         let _ = writeln!(
             self.0,
             "<rect x=\"{x:.1}\" y=\"{y:.1}\" width=\"{w:.1}\" height=\"{h:.1}\" fill=\"{}\"/>",
-            hex(c)
+            c.css()
         );
     }
 
@@ -315,7 +305,7 @@ impl Surface for Svg {
             "<polyline points=\"{}\" fill=\"none\" stroke=\"{}\" stroke-width=\"{width}\" \
              stroke-linejoin=\"round\"{dash}/>",
             pts.join(" "),
-            hex(c)
+            c.css()
         );
     }
 
@@ -331,7 +321,7 @@ impl Surface for Svg {
             self.0,
             "<polygon points=\"{}\" fill=\"{}\" fill-opacity=\"{:.3}\" stroke=\"none\"/>",
             pts.join(" "),
-            hex(c),
+            c.css(),
             f64::from(alpha) / 255.0
         );
     }
@@ -344,7 +334,7 @@ impl Surface for Svg {
             self.0,
             "<text x=\"{x:.1}\" y=\"{:.1}\" font-size=\"{px}\" fill=\"{}\" text-anchor=\"{anchor}\">{}</text>",
             y + 0.85 * px as f64,
-            hex(c),
+            c.css(),
             escape(text)
         );
     }
