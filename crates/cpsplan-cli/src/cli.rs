@@ -56,6 +56,10 @@ pub struct ReportArgs {
     /// Where the report goes [default: DIR/report]; an earlier report there is replaced.
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
+    /// Put every episode page of the experiment (`experiment --html`) into
+    /// report.html, not only each condition's typical episode.
+    #[arg(long)]
+    pub all_episodes: bool,
     /// Print nothing but errors and warnings.
     #[arg(long, short)]
     pub quiet: bool,
@@ -87,6 +91,11 @@ pub struct ExperimentArgs {
     /// Episodes run at once [default: the number of cores].
     #[arg(long, value_name = "N", value_parser = parse_count)]
     pub jobs: Option<usize>,
+    /// Also write each finished episode's page, pages/NNNNNN.html (the page of
+    /// `explore --html`), before its record; `cpsplan report` shows them. With
+    /// --resume, finished episodes without a page are run again.
+    #[arg(long)]
+    pub html: bool,
     /// Print nothing but errors.
     #[arg(long, short)]
     pub quiet: bool,

@@ -560,3 +560,147 @@ fn the_report_draws_every_condition_and_tabulates_it() {
         "holds no experiment",
     );
 }
+
+/// The tunnel, the parent alone and with two children, two seeds, with the
+/// known-map bound.
+const BOUNDED: &str = r#"
+name = "bounded"
+maps = ["builtin:tunnel"]
+seeds = [0, 1]
+bound = true
+
+[base]
+mission.max_scans = 5
+
+[[parameters]]
+name = "alone"
+children.count = 0
+
+[[parameters]]
+name = "team"
+children.count = 2
+"#;
+
+#[test]
+fn records_carry_the_bound_and_the_report_shows_pages_and_bound() {
+    let tmp = tempfile::tempdir().unwrap();
+    let spec = write_spec(tmp.path(), BOUNDED);
+    let spec = spec.to_str().unwrap();
+    let out = tmp.path().join("run");
+    let o = out.to_str().unwrap();
+    run_ok(&["experiment", spec, "--out", o, "--html", "-q"]);
+    let recs = records(&out);
+    assert_eq!(recs.len(), 4);
+    // Each record's bound is `cpsplan bound`'s for its seed's tunnel.
+    for seed in [0u64, 1] {
+        let config = tmp.path().join(format!("seed{seed}.toml"));
+        std::fs::write(&config, format!("seed = {seed}\n")).unwrap();
+        let bound_dir = tmp.path().join(format!("bound{seed}"));
+        run_ok(&[
+            "bound",
+            "--builtin",
+            "tunnel",
+            "--config",
+            config.to_str().unwrap(),
+            "--out",
+            bound_dir.to_str().unwrap(),
+            "-q",
+        ]);
+        let b: Value =
+            serde_json::from_str(&std::fs::read_to_string(bound_dir.join("bound.json")).unwrap())
+                .unwrap();
+        let greedy: Vec<Value> = b["stations"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|s| s["coverage"].clone())
+            .collect();
+        let of_seed: Vec<&Value> = recs
+            .values()
+            .filter(|r| r["episode"]["seed"] == seed)
+            .collect();
+        assert_eq!(of_seed.len(), 2);
+        for r in of_seed {
+            let rb = &r["bound"];
+            assert_eq!(rb["status"], "computed", "{rb}");
+            assert_eq!(rb["levels"], b["levels"], "seed {seed}");
+            assert_eq!(rb["targets"], b["targets"]);
+            assert_eq!(rb["greedy_coverage"], Value::Array(greedy.clone()));
+        }
+    }
+    // A page per episode, written before its record; --resume runs again a
+    // finished episode whose page is missing, to the same record.
+    for i in 0..4 {
+        let page = std::fs::read_to_string(out.join(format!("pages/{i:06}.html"))).unwrap();
+        assert!(page.contains("<script id=\"data\" type=\"application/json\">{"));
+    }
+    std::fs::remove_file(out.join("pages/000002.html")).unwrap();
+    let stdout = run_ok(&["experiment", spec, "--out", o, "--html", "--resume"]);
+    assert!(stdout.contains("1 run, 3 done before"), "{stdout}");
+    assert!(out.join("pages/000002.html").is_file());
+    assert_eq!(records(&out), recs);
+    // Without --html a missing page is no reason to run again.
+    std::fs::remove_file(out.join("pages/000003.html")).unwrap();
+    let stdout = run_ok(&["experiment", spec, "--out", o, "--resume"]);
+    assert!(stdout.contains("0 run, 4 done before"), "{stdout}");
+    // Shards merge with their pages.
+    let s1 = tmp.path().join("s1");
+    let s2 = tmp.path().join("s2");
+    for (k, d) in [(1, &s1), (2, &s2)] {
+        run_ok(&[
+            "experiment",
+            spec,
+            "--out",
+            d.to_str().unwrap(),
+            "--shard",
+            &format!("{k}/2"),
+            "--html",
+            "-q",
+        ]);
+    }
+    let merged = tmp.path().join("merged");
+    let stdout = run_ok(&[
+        "experiment",
+        "merge",
+        s1.to_str().unwrap(),
+        s2.to_str().unwrap(),
+        "--out",
+        merged.to_str().unwrap(),
+    ]);
+    assert!(stdout.contains("4 records and 4 pages"), "{stdout}");
+    assert_eq!(records(&merged), recs);
+    // The report: the table against the bound, the bound's line on the
+    // coverage chart, and a player of each condition's typical episode.
+    let m = merged.to_str().unwrap();
+    run_ok(&["report", m, "-q"]);
+    let md = std::fs::read_to_string(merged.join("report/summary.md")).unwrap();
+    assert!(md.contains("## Against the known-map bound"), "{md}");
+    let greedy_90: Vec<f64> = recs
+        .values()
+        .map(|r| r["bound"]["levels"][0]["greedy_stations"].as_f64().unwrap())
+        .collect();
+    let mean = (greedy_90[0] + greedy_90[1]) / 2.0;
+    let row = md
+        .lines()
+        .filter(|l| l.matches('|').count() == 10)
+        .find(|l| l.starts_with("| alone |") || l.starts_with("| tunnel/alone |"))
+        .unwrap_or_else(|| panic!("no bound row of alone: {md}"));
+    assert!(row.contains(&format!("| {mean:.1} |")), "{row}");
+    let svg = std::fs::read_to_string(merged.join("report/coverage-tunnel.svg")).unwrap();
+    assert!(svg.contains("known-map greedy cover (bound)"));
+    let page = std::fs::read_to_string(merged.join("report/report.html")).unwrap();
+    assert_eq!(
+        page.matches("<option value=").count(),
+        2,
+        "one per condition"
+    );
+    assert_eq!(
+        page.matches("<script type=\"application/json\" id=\"ep-")
+            .count(),
+        2
+    );
+    assert!(page.contains("id=\"player-template\""));
+    run_ok(&["report", m, "--all-episodes", "-q"]);
+    let page = std::fs::read_to_string(merged.join("report/report.html")).unwrap();
+    assert_eq!(page.matches("<option value=").count(), 4, "every episode");
+}

@@ -168,3 +168,77 @@ fn chromium_renders_the_map_and_stepping_changes_it() {
     assert!(b[2] * 10 < a[2] * 9, "unknown pixels {} -> {}", a[2], b[2]);
     assert!(b[0] > a[0], "free pixels {} -> {}", a[0], b[0]);
 }
+
+/// An experiment's `report.html` shows its episodes' pages in a player: the
+/// address picks the episode and the scan, and the player inside shows them.
+#[test]
+fn chromium_plays_an_experiments_episodes_in_its_report() {
+    let Some(chrome) = chromium("chromium_plays_an_experiments_episodes_in_its_report") else {
+        return;
+    };
+    let tmp = tempfile::tempdir().unwrap();
+    let spec = tmp.path().join("two.toml");
+    std::fs::write(
+        &spec,
+        "name = \"two\"\nmaps = [\"builtin:site\"]\nplanners = [\"paper\", \"gain\"]\n\
+         [base]\nmission.max_scans = 6\n",
+    )
+    .unwrap();
+    let out = tmp.path().join("run");
+    for args in [
+        vec![
+            "experiment",
+            spec.to_str().unwrap(),
+            "--html",
+            "-q",
+            "--out",
+        ],
+        vec!["report", "-q"],
+    ] {
+        Command::cargo_bin("cpsplan")
+            .expect("binary built")
+            .args(args)
+            .arg(&out)
+            .assert()
+            .success();
+    }
+    let path = out.join("report/report.html");
+    let dom = |hash: &str| {
+        let out = std::process::Command::new(&chrome)
+            .args([
+                "--headless",
+                "--no-sandbox",
+                "--disable-gpu",
+                "--window-size=1400,1000",
+                "--virtual-time-budget=20000",
+                "--dump-dom",
+            ])
+            .arg(format!("file://{}#{hash}", path.display()))
+            .output()
+            .expect("chromium runs");
+        assert!(out.status.success());
+        let dom = String::from_utf8_lossy(&out.stdout).into_owned();
+        let body = dom.find("<body").expect("a body");
+        dom[body..body + dom[body..].find('>').unwrap()].to_string()
+    };
+    let first = dom("");
+    assert!(first.contains("data-player-ready=\"1\""), "{first}");
+    assert!(
+        first.contains("two \u{2014} site/paper/seed0"),
+        "the first episode: {first}"
+    );
+    assert!(
+        first.contains("data-player-step=\"scan 6 of 6\""),
+        "{first}"
+    );
+    let second = dom("episode=1&step=2");
+    assert!(second.contains("data-player-ready=\"1\""), "{second}");
+    assert!(
+        second.contains("two \u{2014} site/gain/seed0"),
+        "the chosen episode: {second}"
+    );
+    assert!(
+        second.contains("data-player-step=\"scan 2 of 6\""),
+        "{second}"
+    );
+}

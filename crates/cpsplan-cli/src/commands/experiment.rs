@@ -5,23 +5,26 @@
 use std::collections::{BTreeMap, HashMap};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
-use std::sync::{Arc, Mutex};
+use std::sync::{Arc, Mutex, OnceLock};
 use std::time::Instant;
 
 use anyhow::{anyhow, bail, Context, Result};
+use cpsplan::bound::{known_map_bound, BoundParams};
 use cpsplan::world::{default_start, resample_for};
 use cpsplan::{run_episode_with, OccupancyGrid, Point};
 use indicatif::{ProgressBar, ProgressStyle};
 
 use super::{check_memory, load_planning_grid};
 use crate::cli::{ExperimentArgs, ExperimentCommand, MergeArgs};
+use crate::experiment::record::BoundRecord;
 use crate::experiment::store::{
-    record_name, refuse_filled, CSV_FILE, PLAN_FILE, RECORDS_DIR, SPEC_FILE,
+    page_name, record_name, refuse_filled, CSV_FILE, PAGES_DIR, PLAN_FILE, RECORDS_DIR, SPEC_FILE,
 };
 use crate::experiment::{
     parse_plan, EpisodeRecord, EpisodeSpec, ExperimentDir, Outcome, PlanFile, Shard,
 };
 use crate::formats::rosmap::{read_text, ReadLimits};
+use crate::html::{episode_page, page_title, PageRecorder};
 use crate::report::{write_atomic, ReportDir};
 
 /// Runs `cpsplan experiment` or its `merge`.
@@ -60,11 +63,16 @@ pub fn run(args: &ExperimentArgs) -> Result<()> {
     let episodes = &dir.file.plan.episodes;
     let total = episodes.len();
     let mine: Vec<&EpisodeSpec> = episodes.iter().filter(in_shard).collect();
-    let todo: Vec<&EpisodeSpec> = mine
-        .iter()
-        .copied()
-        .filter(|e| !records.valid.contains_key(&e.index))
-        .collect();
+    // With --html, a finished episode whose page is missing runs again.
+    let done = |e: &EpisodeSpec| match records.valid.get(&e.index) {
+        Some((_, r)) => {
+            !args.html
+                || matches!(r.outcome, Outcome::Failed { .. })
+                || dir.page_path(e.index).is_file()
+        }
+        None => false,
+    };
+    let todo: Vec<&EpisodeSpec> = mine.iter().copied().filter(|e| !done(e)).collect();
     let before = mine.len() - todo.len();
     let jobs = args
         .jobs
@@ -86,6 +94,7 @@ pub fn run(args: &ExperimentArgs) -> Result<()> {
     let failures: Mutex<Vec<(String, String)>> = Mutex::new(Vec::new());
     let written: Mutex<Vec<EpisodeRecord>> = Mutex::new(Vec::new());
     let write_error: Mutex<Option<anyhow::Error>> = Mutex::new(None);
+    let bounds = dir.file.plan.bound.then(Bounds::default);
     std::thread::scope(|s| {
         for _ in 0..jobs {
             s.spawn(|| loop {
@@ -94,13 +103,24 @@ pub fn run(args: &ExperimentArgs) -> Result<()> {
                     break;
                 }
                 let spec = todo[i];
-                let record = run_one(&name, spec, &maps, experiment_dir);
+                let (record, page) = run_one(
+                    &name,
+                    spec,
+                    &maps,
+                    experiment_dir,
+                    bounds.as_ref(),
+                    args.html,
+                );
                 if let Outcome::Failed { error } = &record.outcome {
                     if let Ok(mut f) = failures.lock() {
                         f.push((spec.label.clone(), error.clone()));
                     }
                 }
-                if let Err(e) = dir.write_record(&record) {
+                // The page first: a record on disk means its page is there too.
+                let wrote = page
+                    .map_or(Ok(()), |html| dir.write_page(spec.index, &html))
+                    .and_then(|()| dir.write_record(&record));
+                if let Err(e) = wrote {
                     if let Ok(mut w) = write_error.lock() {
                         w.get_or_insert(e);
                     }
@@ -221,17 +241,90 @@ impl MapFiles {
     }
 }
 
-/// Runs one episode into its record.
-fn run_one(experiment: &str, spec: &EpisodeSpec, maps: &MapFiles, dir: &Path) -> EpisodeRecord {
+/// The known-map bounds of a run, each computed once however many episodes
+/// share it (and however many workers ask for it at once).
+#[derive(Default)]
+struct Bounds {
+    computed: Mutex<HashMap<String, Arc<OnceLock<BoundRecord>>>>,
+}
+
+impl Bounds {
+    /// The bound of episode `spec` on `truth` from `start`.
+    fn get(&self, spec: &EpisodeSpec, truth: &OccupancyGrid, start: Point) -> BoundRecord {
+        // What the bound depends on: the map (and a built-in map's seed), the
+        // start, and the scanner, robot, resolution and limits.
+        let c = &spec.config;
+        let key = serde_json::to_string(&(
+            &spec.map,
+            spec.builtin().map(|_| spec.seed),
+            [start.x.to_bits(), start.y.to_bits()],
+            &c.scanner,
+            &c.robot,
+            c.resolution.to_bits(),
+            &c.limits,
+        ))
+        .unwrap_or_else(|_| spec.label.clone());
+        let cell = match self.computed.lock() {
+            Ok(mut m) => m.entry(key).or_default().clone(),
+            Err(_) => Arc::default(),
+        };
+        cell.get_or_init(
+            || match known_map_bound(truth, start, c, BoundParams::default()) {
+                Ok(b) => BoundRecord::of(&b),
+                Err(e) => BoundRecord::Failed {
+                    error: e.to_string(),
+                },
+            },
+        )
+        .clone()
+    }
+}
+
+/// Runs one episode into its record (with its map's bound when `bounds` is
+/// given) and, with `html`, its page.
+fn run_one(
+    experiment: &str,
+    spec: &EpisodeSpec,
+    maps: &MapFiles,
+    dir: &Path,
+    bounds: Option<&Bounds>,
+    html: bool,
+) -> (EpisodeRecord, Option<String>) {
     let t0 = Instant::now();
+    let mut wall_ms = 0.0;
     let result = maps.truth(spec, dir).and_then(|(truth, start)| {
-        let episode = run_episode_with(&truth, start, &spec.config, |_, _| {})?;
-        Ok((start, episode))
+        let mut recorder = html.then(|| PageRecorder::new(*truth.geometry()));
+        let episode = run_episode_with(&truth, start, &spec.config, |step, knowledge| {
+            if let Some(r) = recorder.as_mut() {
+                r.record(step, knowledge, &spec.config);
+            }
+        })?;
+        wall_ms = t0.elapsed().as_secs_f64() * 1e3;
+        // The bound's and the page's own time are not the episode's.
+        let bound = bounds.map(|b| b.get(spec, &truth, start));
+        let page = recorder
+            .map(|r| {
+                let title = page_title(experiment, &spec.label);
+                episode_page(&episode, &r, &title, &spec.map)
+            })
+            .transpose()?;
+        Ok((start, episode, bound, page))
     });
-    let wall_ms = t0.elapsed().as_secs_f64() * 1e3;
+    if result.is_err() {
+        wall_ms = t0.elapsed().as_secs_f64() * 1e3;
+    }
     match result {
-        Ok((start, episode)) => EpisodeRecord::finished(experiment, spec, start, &episode, wall_ms),
-        Err(e) => EpisodeRecord::failed(experiment, spec, crate::cli::one_line(&e), wall_ms),
+        Ok((start, episode, bound, page)) => (
+            EpisodeRecord {
+                bound,
+                ..EpisodeRecord::finished(experiment, spec, start, &episode, wall_ms)
+            },
+            page,
+        ),
+        Err(e) => (
+            EpisodeRecord::failed(experiment, spec, crate::cli::one_line(&e), wall_ms),
+            None,
+        ),
     }
 }
 
@@ -338,15 +431,35 @@ fn merge(args: &MergeArgs) -> Result<()> {
                 .with_context(|| format!("cannot copy {}", path.display()))
         })
         .collect::<Result<_>>()?;
+    // The shards' pages, of the episodes merged.
+    let mut pages = 0usize;
+    for d in &dirs {
+        for r in &records {
+            let from = d.page_path(r.episode.index);
+            if from.is_file() {
+                let to_dir = tmp.join(PAGES_DIR);
+                std::fs::create_dir_all(&to_dir)
+                    .with_context(|| format!("cannot create directory {}", to_dir.display()))?;
+                std::fs::copy(&from, to_dir.join(page_name(r.episode.index)))
+                    .with_context(|| format!("cannot copy {}", from.display()))?;
+                pages += 1;
+            }
+        }
+    }
     write_atomic(
         &tmp.join(CSV_FILE),
         &crate::experiment::record::episodes_csv(&records)?,
     )?;
     out.commit()?;
     println!(
-        "experiment `{}`: {} records from {} director{} merged into {}",
+        "experiment `{}`: {} records{} from {} director{} merged into {}",
         first.file.plan.name,
         records.len(),
+        if pages > 0 {
+            format!(" and {pages} pages")
+        } else {
+            String::new()
+        },
         dirs.len(),
         if dirs.len() == 1 { "y" } else { "ies" },
         args.out.display()

@@ -10,15 +10,16 @@
 
 use std::path::PathBuf;
 
-use anyhow::{bail, Result};
+use anyhow::{bail, Context, Result};
 
 use crate::cli::ReportArgs;
 use crate::experiment::summary::{
-    conditions, csv_table, curve, curve_against, headline, html_table, markdown_table, Condition,
-    Metric,
+    bound_markdown_table, conditions, csv_table, curve, curve_against, greedy_bound_curve,
+    headline, html_of_markdown, html_table, markdown_table, Condition, Metric,
 };
-use crate::experiment::{EpisodeRecord, ExperimentDir};
-use crate::html::escape;
+use crate::experiment::{EpisodeRecord, ExperimentDir, Outcome};
+use crate::html::episodes::{player_section, ShownEpisode};
+use crate::html::{escape, page_data, page_title};
 use crate::render::{Chart, Series, SERIES_COLOURS};
 use crate::report::{write_atomic, ReportDir};
 
@@ -31,6 +32,15 @@ td,th{border-bottom:1px solid #d9e2ec;padding:4px 8px;text-align:right;white-spa
 td:first-child,th:first-child{text-align:left}th{background:#f5f7fa}\
 .charts{display:grid;grid-template-columns:repeat(auto-fill,minmax(560px,1fr));gap:12px}\
 figure{margin:0}figure svg{width:100%;height:auto;border:1px solid #d9e2ec;border-radius:6px}";
+
+/// The colour of the known-map bound's line.
+const BOUND_COLOUR: (u8, u8, u8) = (26, 26, 26);
+
+/// What the table against the bound says.
+const BOUND_NOTE: &str = "The known-map yardstick of each episode's map and start (`cpsplan bound`): \
+    the stations a greedy set cover that knew the map would need for 90 and 99 % of the coverable cells, \
+    and the LP lower bound on the fewest; \"÷ greedy\": each episode's scans to that coverage over its \
+    bound's greedy stations (episodes that got there). Means over the seeds.";
 
 /// The per-scan figures drawn against the scan number.
 const METRICS: [Metric; 4] = [
@@ -83,6 +93,79 @@ fn series(
         .collect()
 }
 
+/// The typical episode of `condition`: of its finished episodes with a page,
+/// the one with the median number of scans (the earlier of two).
+fn typical<'a>(
+    condition: &Condition<'a>,
+    has_page: &dyn Fn(usize) -> bool,
+) -> Option<&'a EpisodeRecord> {
+    let mut finished: Vec<(usize, &EpisodeRecord)> = condition
+        .records
+        .iter()
+        .filter(|r| has_page(r.episode.index))
+        .filter_map(|r| match &r.outcome {
+            Outcome::Finished { summary, .. } => Some((summary.scans, *r)),
+            Outcome::Failed { .. } => None,
+        })
+        .collect();
+    finished.sort_by_key(|(scans, r)| (*scans, r.episode.index));
+    let middle = finished.len().checked_sub(1)? / 2;
+    Some(finished[middle].1)
+}
+
+/// The episodes the page shows: every one with a page (`all`), or each
+/// condition's typical one; with what the page says about them.
+fn shown_episodes(
+    dir: &ExperimentDir,
+    conditions: &[Condition<'_>],
+    all: bool,
+) -> Result<(Vec<(usize, ShownEpisode)>, String)> {
+    let has_page = |index: usize| dir.page_path(index).is_file();
+    let chosen: Vec<&EpisodeRecord> = if all {
+        conditions
+            .iter()
+            .flat_map(|c| c.records.iter().copied())
+            .filter(|r| has_page(r.episode.index))
+            .collect()
+    } else {
+        conditions
+            .iter()
+            .filter_map(|c| typical(c, &has_page))
+            .collect()
+    };
+    let mut out = Vec::with_capacity(chosen.len());
+    for r in chosen {
+        let path = dir.page_path(r.episode.index);
+        let page = std::fs::read_to_string(&path)
+            .with_context(|| format!("cannot read {}", path.display()))?;
+        let Some(data) = page_data(&page) else {
+            eprintln!("warning: {} left out: not an episode page", path.display());
+            continue;
+        };
+        let scans = match &r.outcome {
+            Outcome::Finished { summary, .. } => summary.scans,
+            Outcome::Failed { .. } => 0,
+        };
+        out.push((
+            r.episode.index,
+            ShownEpisode {
+                label: format!("{} ({scans} scans)", r.episode.label),
+                title: page_title(&dir.file.plan.name, &r.episode.label),
+                data: data.to_string(),
+            },
+        ));
+    }
+    let note = if all {
+        "Every episode with a page, scan by scan: the map as it grew, the robots and their paths, \
+         the AND regions, the candidates by G and the error ellipses."
+    } else {
+        "The typical episode of each condition (the seed with the median number of scans), scan \
+         by scan: the map as it grew, the robots and their paths, the AND regions, the candidates \
+         by G and the error ellipses. cpsplan report --all-episodes puts in every episode's page."
+    };
+    Ok((out, note.to_string()))
+}
+
 /// Runs `cpsplan report`.
 pub fn run(args: &ReportArgs) -> Result<()> {
     let dir = ExperimentDir::open(&args.dir)?;
@@ -119,6 +202,12 @@ pub fn run(args: &ReportArgs) -> Result<()> {
     );
     let rows: Vec<_> = all.iter().map(headline).collect();
     md.push_str(&markdown_table(&rows));
+    let bound_table = bound_markdown_table(&rows);
+    if let Some(t) = &bound_table {
+        md.push_str(&format!(
+            "\n## Against the known-map bound\n\n{BOUND_NOTE}\n\n{t}"
+        ));
+    }
     let mut html = format!(
         "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n\
          <title>{name}</title>\n<style>{STYLE}</style>\n</head>\n<body>\n<h1>Experiment <code>{name}</code></h1>\n\
@@ -134,6 +223,13 @@ pub fn run(args: &ReportArgs) -> Result<()> {
         )),
         table = html_table(&rows),
     );
+    if let Some(t) = &bound_table {
+        html.push_str(&format!(
+            "\n<h2>Against the known-map bound</h2>\n<p>{}</p>\n<div class=\"wide\">{}</div>",
+            escape(&BOUND_NOTE.replace('`', "")),
+            html_of_markdown(t)
+        ));
+    }
     let mut files: Vec<(PathBuf, Vec<u8>)> = Vec::new();
     for map in &maps {
         let here: Vec<&Condition<'_>> = all.iter().filter(|c| c.map == *map).collect();
@@ -146,10 +242,24 @@ pub fn run(args: &ReportArgs) -> Result<()> {
                         an ended episode keeps its last value"
             .to_string();
         let mut charts: Vec<(String, Chart)> = Vec::new();
+        let map_records: Vec<&EpisodeRecord> = here
+            .iter()
+            .flat_map(|c| c.records.iter().copied())
+            .collect();
+        let bound = greedy_bound_curve(&map_records);
         for metric in METRICS {
-            let s = series(&here, |c| curve(c, metric).map(|k| (k.median, k.quartiles)));
+            let mut s = series(&here, |c| curve(c, metric).map(|k| (k.median, k.quartiles)));
             if s.is_empty() {
                 continue;
+            }
+            if let (Metric::Coverage, Some(points)) = (metric, &bound) {
+                s.push(Series {
+                    label: "known-map greedy cover (bound)".into(),
+                    points: points.clone(),
+                    colour: BOUND_COLOUR,
+                    dashed: true,
+                    band: Vec::new(),
+                });
             }
             charts.push((
                 format!("{}-{}", metric.name(), file_part(map)),
@@ -186,6 +296,15 @@ pub fn run(args: &ReportArgs) -> Result<()> {
             md.push_str(&format!("![{name}]({name}.png)\n\n"));
         }
         html.push_str("</div>\n");
+    }
+    let (shown, note) = shown_episodes(&dir, &all, args.all_episodes)?;
+    if shown.is_empty() {
+        html.push_str(
+            "\n<h2>Episodes</h2>\n<p>No episode pages: <code>cpsplan experiment FILE.toml --out DIR \
+             --resume --html</code> adds them (it runs the finished episodes again).</p>\n",
+        );
+    } else {
+        html.push_str(&player_section(&shown, &note)?);
     }
     for (name, bytes) in &files {
         write_atomic(&report.path().join(name), bytes)?;

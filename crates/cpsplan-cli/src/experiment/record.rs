@@ -2,6 +2,7 @@
 //! what ran, its totals and its per-scan series, and the row it gives in
 //! `episodes.csv`.
 
+use cpsplan::bound::{BoundLevel, KnownMapBound};
 use cpsplan::mission::{Episode, Summary};
 use cpsplan::Point;
 use serde::{Deserialize, Serialize};
@@ -56,6 +57,69 @@ pub enum Outcome {
     },
 }
 
+/// The known-map bound of an episode's map and start (`cpsplan bound`), as the
+/// report measures the planners against it.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "status", rename_all = "snake_case")]
+pub enum BoundRecord {
+    /// Computed.
+    Computed {
+        /// Targets: the reachable free cells on the target lattice.
+        targets: usize,
+        /// Targets some candidate station sees.
+        coverable_targets: usize,
+        /// Greedy stations and the LP lower bound for 90, 95, 99 and 100 % of
+        /// the coverable targets.
+        levels: Vec<BoundLevel>,
+        /// The greedy cover's share of the coverable targets after each station.
+        greedy_coverage: Vec<f64>,
+    },
+    /// It could not be computed (the message says why).
+    Failed {
+        /// Why.
+        error: String,
+    },
+}
+
+impl BoundRecord {
+    /// The record of a computed bound.
+    pub fn of(bound: &KnownMapBound) -> Self {
+        BoundRecord::Computed {
+            targets: bound.targets,
+            coverable_targets: bound.coverable_targets,
+            levels: bound.levels.clone(),
+            greedy_coverage: bound.stations.iter().map(|s| s.coverage).collect(),
+        }
+    }
+
+    /// The figures for `share` of the coverable targets, if computed.
+    pub fn level(&self, share: f64) -> Option<&BoundLevel> {
+        match self {
+            BoundRecord::Computed { levels, .. } => {
+                levels.iter().find(|l| (l.share - share).abs() < 1e-9)
+            }
+            BoundRecord::Failed { .. } => None,
+        }
+    }
+
+    /// The greedy cover's coverage of the reachable free space (targets seen
+    /// over all targets) after each station; empty if not computed.
+    pub fn greedy_curve(&self) -> Vec<f64> {
+        match self {
+            BoundRecord::Computed {
+                targets,
+                coverable_targets,
+                greedy_coverage,
+                ..
+            } if *targets > 0 => {
+                let f = *coverable_targets as f64 / *targets as f64;
+                greedy_coverage.iter().map(|c| c * f).collect()
+            }
+            _ => Vec::new(),
+        }
+    }
+}
+
 /// `records/NNNNNN.json`.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct EpisodeRecord {
@@ -67,6 +131,10 @@ pub struct EpisodeRecord {
     pub episode: EpisodeSpec,
     /// How it ended.
     pub outcome: Outcome,
+    /// The known-map bound of its map and start, in experiments with
+    /// `bound = true`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub bound: Option<BoundRecord>,
     /// Wall-clock time of the simulation, milliseconds (the only field that varies
     /// between identical runs).
     pub wall_ms: f64,
@@ -106,6 +174,7 @@ impl EpisodeRecord {
                 summary: Box::new(episode.summary.clone()),
                 scans,
             },
+            bound: None,
             wall_ms,
         }
     }
@@ -117,6 +186,7 @@ impl EpisodeRecord {
             experiment: experiment.into(),
             episode: spec.clone(),
             outcome: Outcome::Failed { error },
+            bound: None,
             wall_ms,
         }
     }

@@ -19,6 +19,10 @@
 //! name = "beta0"
 //! parent.beta = 0.0
 //! ```
+//!
+//! `bound = true` adds to every record the known-map bound of its map and start
+//! (`cpsplan bound`), computed once per distinct map, seed of a built-in map,
+//! start and scanner.
 
 use std::path::{Path, PathBuf};
 
@@ -123,6 +127,8 @@ struct ExperimentFile {
     base: toml::Table,
     #[serde(default)]
     parameters: Vec<toml::Table>,
+    #[serde(default)]
+    bound: bool,
 }
 
 /// One episode of an experiment: where it runs and its whole configuration.
@@ -176,6 +182,10 @@ pub struct Plan {
     pub name: String,
     /// What it is for.
     pub description: String,
+    /// Whether each record carries the known-map bound of its map and start
+    /// (`cpsplan bound`), to measure the planners against.
+    #[serde(default)]
+    pub bound: bool,
     /// The episodes, `episodes[i].index == i`.
     pub episodes: Vec<EpisodeSpec>,
 }
@@ -390,6 +400,7 @@ fn expand(file: ExperimentFile, path: &Path) -> Result<Plan, SpecError> {
         format: PLAN_FORMAT.into(),
         name: file.name,
         description: file.description,
+        bound: file.bound,
         episodes,
     })
 }

@@ -24,6 +24,8 @@ pub const PLAN_FILE: &str = "plan.json";
 pub const RECORDS_DIR: &str = "records";
 /// The table of the records.
 pub const CSV_FILE: &str = "episodes.csv";
+/// The directory of the episode pages (`experiment --html`).
+pub const PAGES_DIR: &str = "pages";
 
 /// The largest record file read, bytes.
 const MAX_RECORD_BYTES: u64 = 1 << 30;
@@ -189,6 +191,19 @@ impl ExperimentDir {
         self.root.join(RECORDS_DIR).join(record_name(index))
     }
 
+    /// Where the page of episode `index` goes (`experiment --html`).
+    pub fn page_path(&self, index: usize) -> PathBuf {
+        self.root.join(PAGES_DIR).join(page_name(index))
+    }
+
+    /// Writes the page of episode `index` whole (temporary file, then rename).
+    pub fn write_page(&self, index: usize, html: &str) -> Result<()> {
+        let dir = self.root.join(PAGES_DIR);
+        std::fs::create_dir_all(&dir)
+            .with_context(|| format!("cannot create directory {}", dir.display()))?;
+        write_atomic(&self.page_path(index), html.as_bytes())
+    }
+
     fn write_plan(&self) -> Result<()> {
         let json = serde_json::to_vec_pretty(&self.file)?;
         write_atomic(&self.root.join(PLAN_FILE), &json)
@@ -289,6 +304,11 @@ pub fn refuse_filled(out: &Path, hint: &str) -> Result<()> {
 /// `000042.json`.
 pub fn record_name(index: usize) -> String {
     format!("{index:06}.json")
+}
+
+/// `000042.html`.
+pub fn page_name(index: usize) -> String {
+    format!("{index:06}.html")
 }
 
 fn parse_record_name(name: &str) -> Option<usize> {

@@ -4,7 +4,7 @@
 
 use serde::Serialize;
 
-use super::record::{EpisodeRecord, Outcome, ScanRecord};
+use super::record::{BoundRecord, EpisodeRecord, Outcome, ScanRecord};
 use crate::html::escape;
 
 /// The episodes of one condition: the same map, start, parameter set, planner,
@@ -171,6 +171,34 @@ pub fn curve_against(condition: &Condition<'_>, x: Metric, y: Metric) -> Option<
     )
 }
 
+/// The known-map greedy cover's coverage (%) against the number of stations,
+/// the median over the distinct bounds of `records` (those of every seed of a
+/// built-in map, for instance), a bound that ended carrying its last value;
+/// `None` if no record has a bound.
+pub fn greedy_bound_curve(records: &[&EpisodeRecord]) -> Option<Vec<(f64, f64)>> {
+    let mut curves: Vec<Vec<f64>> = Vec::new();
+    for r in records {
+        let c = r.bound.as_ref().map(BoundRecord::greedy_curve);
+        if let Some(c) = c.filter(|c| !c.is_empty()) {
+            if !curves.contains(&c) {
+                curves.push(c);
+            }
+        }
+    }
+    let longest = curves.iter().map(Vec::len).max()?;
+    Some(
+        (0..longest)
+            .map(|k| {
+                let mut col: Vec<f64> = curves
+                    .iter()
+                    .map(|c| 100.0 * c[k.min(c.len() - 1)])
+                    .collect();
+                ((k + 1) as f64, median(&mut col))
+            })
+            .collect(),
+    )
+}
+
 /// Mean and sample standard deviation (0 for one value); `None` for none.
 fn mean_sd(values: &[f64]) -> Option<(f64, f64)> {
     if values.is_empty() {
@@ -229,6 +257,26 @@ pub struct Headline {
     pub campaign_time_h_mean: Option<f64>,
     /// Its standard deviation.
     pub campaign_time_h_sd: Option<f64>,
+    /// The known-map greedy cover's stations for 90 % of the coverable cells
+    /// (`bound = true`).
+    pub bound_greedy_90_mean: Option<f64>,
+    /// The LP lower bound's stations for 90 %.
+    pub bound_lower_90_mean: Option<f64>,
+    /// Scans to 90 % over the greedy stations for 90 %, per episode.
+    pub scans_to_90_per_greedy_mean: Option<f64>,
+    /// The greedy cover's stations for 99 %.
+    pub bound_greedy_99_mean: Option<f64>,
+    /// The LP lower bound's stations for 99 %.
+    pub bound_lower_99_mean: Option<f64>,
+    /// Scans to 99 % over the greedy stations for 99 %, per episode.
+    pub scans_to_99_per_greedy_mean: Option<f64>,
+}
+
+impl Headline {
+    /// Whether the condition's records carry a computed bound.
+    pub fn has_bound(&self) -> bool {
+        self.bound_greedy_90_mean.is_some()
+    }
 }
 
 /// The headline figures of `condition`.
@@ -253,6 +301,31 @@ pub fn headline(condition: &Condition<'_>) -> Headline {
             .collect();
         mean_sd(&v).map(|m| m.0)
     };
+    // The bound's figures for `share`, and each episode's scans to `share`
+    // over the greedy stations for it.
+    let against = |share: f64| {
+        let mut greedy = Vec::new();
+        let mut lower = Vec::new();
+        let mut ratio = Vec::new();
+        for r in &condition.records {
+            let Some(level) = r.bound.as_ref().and_then(|b| b.level(share)) else {
+                continue;
+            };
+            greedy.push(level.greedy_stations as f64);
+            lower.push(level.lower_bound_stations as f64);
+            if let Outcome::Finished { scans, .. } = &r.outcome {
+                if let Some(s) = scans.iter().find(|s| s.coverage >= share) {
+                    if level.greedy_stations > 0 {
+                        ratio.push(s.scan as f64 / level.greedy_stations as f64);
+                    }
+                }
+            }
+        }
+        let m = |v: &[f64]| mean_sd(v).map(|m| m.0);
+        (m(&greedy), m(&lower), m(&ratio))
+    };
+    let (greedy_90, lower_90, per_greedy_90) = against(0.9);
+    let (greedy_99, lower_99, per_greedy_99) = against(0.99);
     let scans = of(&|s| Some(s.scans as f64));
     let travel = of(&|s| Some(s.parent_travel_m));
     let sigma = of(&|s| s.final_position_sigma_m.map(|v| 1e3 * v));
@@ -281,6 +354,12 @@ pub fn headline(condition: &Condition<'_>) -> Headline {
         error_percent_of_travel_mean: of(&|s| s.error_percent_of_travel).map(|m| m.0),
         campaign_time_h_mean: time.map(|m| m.0),
         campaign_time_h_sd: time.map(|m| m.1),
+        bound_greedy_90_mean: greedy_90,
+        bound_lower_90_mean: lower_90,
+        scans_to_90_per_greedy_mean: per_greedy_90,
+        bound_greedy_99_mean: greedy_99,
+        bound_lower_99_mean: lower_99,
+        scans_to_99_per_greedy_mean: per_greedy_99,
     }
 }
 
@@ -330,9 +409,41 @@ pub fn markdown_table(rows: &[Headline]) -> String {
     out
 }
 
+/// The table against the known-map bound as Markdown: the rows with a bound
+/// only; `None` if none has one.
+pub fn bound_markdown_table(rows: &[Headline]) -> Option<String> {
+    let with: Vec<&Headline> = rows.iter().filter(|r| r.has_bound()).collect();
+    if with.is_empty() {
+        return None;
+    }
+    let mut out = String::from(
+        "| condition | to 90 % | greedy 90 % | LP bound 90 % | to 90 % ÷ greedy | to 99 % | \
+         greedy 99 % | LP bound 99 % | to 99 % ÷ greedy |\n|---|---:|---:|---:|---:|---:|---:|---:|---:|\n",
+    );
+    for r in with {
+        out.push_str(&format!(
+            "| {} | {} | {} | {} | {} | {} | {} | {} | {} |\n",
+            r.condition,
+            cell(r.scans_to_90_mean, 1),
+            cell(r.bound_greedy_90_mean, 1),
+            cell(r.bound_lower_90_mean, 1),
+            cell(r.scans_to_90_per_greedy_mean, 2),
+            cell(r.scans_to_99_mean, 1),
+            cell(r.bound_greedy_99_mean, 1),
+            cell(r.bound_lower_99_mean, 1),
+            cell(r.scans_to_99_per_greedy_mean, 2),
+        ));
+    }
+    Some(out)
+}
+
 /// The headline table as an HTML table (the cells of [`markdown_table`]).
 pub fn html_table(rows: &[Headline]) -> String {
-    let md = markdown_table(rows);
+    html_of_markdown(&markdown_table(rows))
+}
+
+/// A Markdown table of this module as an HTML table.
+pub fn html_of_markdown(md: &str) -> String {
     let mut out = String::from("<table>\n");
     for (k, line) in md.lines().enumerate() {
         if k == 1 {

@@ -11,6 +11,8 @@
 //! one pass; AND regions travel as row runs on a grid coarsened to at most
 //! 96 cells a side.
 
+pub mod episodes;
+
 use std::io::Write as _;
 
 use anyhow::Result;
@@ -381,9 +383,40 @@ pub fn episode_page(
         colours,
     };
     let json = script_json(&data)?;
-    Ok(TEMPLATE
+    Ok(page_of_data(title, &json))
+}
+
+/// The player page of `title` around the data of one episode (as
+/// [`episode_page`] makes them, with no `<` in them).
+fn page_of_data(title: &str, data: &str) -> String {
+    TEMPLATE
         .replace("__TITLE__", &escape(title))
-        .replace("__DATA__", &json))
+        .replace("__DATA__", data)
+}
+
+/// The title of the page of an experiment's episode.
+pub fn page_title(experiment: &str, episode: &str) -> String {
+    format!("cpsplan experiment {experiment} \u{2014} {episode}")
+}
+
+/// What stands just before an episode page's data.
+const DATA_START: &str = "<script id=\"data\" type=\"application/json\">";
+
+/// The data of an episode page written by [`episode_page`] (they hold no `<`,
+/// so they end at the first `<` after their start); `None` if `page` is not
+/// such a page.
+pub fn page_data(page: &str) -> Option<&str> {
+    let from = page.find(DATA_START)? + DATA_START.len();
+    let len = page[from..].find('<')?;
+    let data = &page[from..from + len];
+    data.starts_with('{').then_some(data)
+}
+
+/// The player of [`episode_page`] as a JSON string (no `<` in it) for a page
+/// that shows several episodes: their data take the place of `__DATA__` and
+/// the page's title that of `__TITLE__`.
+pub fn player_template_json() -> Result<String> {
+    script_json(&TEMPLATE)
 }
 
 /// `data` as JSON to stand inside a `<script>` element: with no `<` in it (no
@@ -424,6 +457,17 @@ mod tests {
             assert_eq!(run, [k as u32, 0, 67]);
         }
         assert!(coarse_runs(&g, &vec![false; g.len()], 0).is_none());
+    }
+
+    #[test]
+    fn a_page_gives_back_its_data() {
+        let data = script_json(&vec!["a </script> b", "c"]).unwrap();
+        let page = page_of_data("t <x>", &data);
+        assert_eq!(page_data(&page), Some(data.as_str()));
+        assert!(page.contains("<title>t &lt;x&gt;</title>"));
+        assert_eq!(page_data("<html>no data</html>"), None);
+        let tpl: String = serde_json::from_str(&player_template_json().unwrap()).unwrap();
+        assert_eq!(tpl, TEMPLATE);
     }
 
     #[test]
