@@ -17,7 +17,7 @@ use std::io::Write as _;
 
 use anyhow::Result;
 use base64::Engine as _;
-use cpsplan::mission::{cycle_and_regions, Episode, Step};
+use cpsplan::mission::{move_and_regions, Episode, Step};
 use cpsplan::parent::Decision;
 use cpsplan::{CellState, Config, GridGeometry, OccupancyGrid, Point};
 use serde::Serialize;
@@ -75,12 +75,9 @@ impl PageRecorder {
             }
         }
         let mut and = Vec::new();
-        for cycle in &step.movement.cycles {
-            for (child, mask) in cycle_and_regions(knowledge, cycle, config)
-                .into_iter()
-                .enumerate()
-            {
-                if let Some(r) = coarse_runs(&self.geometry, &mask, child) {
+        for regions in move_and_regions(knowledge, &step.movement.cycles, config) {
+            for (child, region) in regions.iter().enumerate() {
+                if let Some(r) = coarse_runs(&self.geometry, &region.cells, child) {
                     and.push(r);
                 }
             }
@@ -89,13 +86,15 @@ impl PageRecorder {
     }
 }
 
-/// The runs of `mask` on a grid coarse enough that its bounding box has at most
-/// [`AND_CELLS`] cells a side (a coarse cell is in if any of its cells is).
-fn coarse_runs(g: &GridGeometry, mask: &[bool], child: usize) -> Option<Region> {
+/// The runs of the region of `cells` (grid indices) on a grid coarse enough
+/// that its bounding box has at most [`AND_CELLS`] cells a side (a coarse cell
+/// is in if any of its cells is).
+fn coarse_runs(g: &GridGeometry, cells: &[u32], child: usize) -> Option<Region> {
     let w = g.width;
+    let at = |i: u32| (i as usize % w, i as usize / w);
     let (mut x0, mut y0, mut x1, mut y1) = (usize::MAX, usize::MAX, 0, 0);
-    for (i, _) in mask.iter().enumerate().filter(|(_, &m)| m) {
-        let (x, y) = (i % w, i / w);
+    for &i in cells {
+        let (x, y) = at(i);
         x0 = x0.min(x);
         y0 = y0.min(y);
         x1 = x1.max(x);
@@ -108,12 +107,9 @@ fn coarse_runs(g: &GridGeometry, mask: &[bool], child: usize) -> Option<Region> 
     let scale = span.div_ceil(AND_CELLS).max(1);
     let (cw, ch) = ((x1 - x0) / scale + 1, (y1 - y0) / scale + 1);
     let mut coarse = vec![false; cw * ch];
-    for y in y0..=y1 {
-        for x in x0..=x1 {
-            if mask[y * w + x] {
-                coarse[(y - y0) / scale * cw + (x - x0) / scale] = true;
-            }
-        }
+    for &i in cells {
+        let (x, y) = at(i);
+        coarse[(y - y0) / scale * cw + (x - x0) / scale] = true;
     }
     let mut runs = Vec::new();
     for row in 0..ch {
@@ -441,14 +437,14 @@ mod tests {
     #[test]
     fn and_regions_become_row_runs_on_a_coarse_grid() {
         let g = GridGeometry::new(300, 200, 0.1, Point::new(0.0, 0.0));
-        let mut mask = vec![false; g.len()];
-        // A 200 × 10 block from (50, 20), and one cell at (249, 29).
+        // A 200 × 10 block from (50, 20).
+        let mut cells = Vec::new();
         for y in 20..30 {
             for x in 50..250 {
-                mask[y * 300 + x] = true;
+                cells.push((y * 300 + x) as u32);
             }
         }
-        let r = coarse_runs(&g, &mask, 1).unwrap();
+        let r = coarse_runs(&g, &cells, 1).unwrap();
         assert_eq!((r.child, r.x0, r.y0), (1, 50, 20));
         assert_eq!(r.scale, 3, "200 cells fit 96 at a scale of 3");
         // Rows 20..30 fall in coarse rows 0..=3, each one run over all 67 columns.
@@ -456,16 +452,22 @@ mod tests {
         for (k, run) in r.runs.chunks(3).enumerate() {
             assert_eq!(run, [k as u32, 0, 67]);
         }
-        assert!(coarse_runs(&g, &vec![false; g.len()], 0).is_none());
+        assert!(coarse_runs(&g, &[], 0).is_none());
     }
 
     #[test]
     fn a_page_gives_back_its_data() {
-        let data = script_json(&vec!["a </script> b", "c"]).unwrap();
+        let data = script_json(&serde_json::json!({"label": "a </script> b", "k": [1]})).unwrap();
         let page = page_of_data("t <x>", &data);
         assert_eq!(page_data(&page), Some(data.as_str()));
         assert!(page.contains("<title>t &lt;x&gt;</title>"));
         assert_eq!(page_data("<html>no data</html>"), None);
+        let not_ours = page_of_data("t", "[1]");
+        assert_eq!(
+            page_data(&not_ours),
+            None,
+            "the data of a page are an object"
+        );
         let tpl: String = serde_json::from_str(&player_template_json().unwrap()).unwrap();
         assert_eq!(tpl, TEMPLATE);
     }

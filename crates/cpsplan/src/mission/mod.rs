@@ -45,6 +45,8 @@ pub use episode::{
     StopReason, Summary, START_REGION_SHARE, START_REGION_SHARE_OF_MAP,
 };
 pub use memory::MemoryEstimate;
-pub use record::{cycle_and_regions, ChildMove, CycleRecord, MoveRecord, RejectedTarget};
+pub use record::{
+    cycle_and_regions, move_and_regions, ChildMove, CycleRecord, MoveRecord, RejectedTarget,
+};
 pub use step::{plan_step, PlanError, StepPlan};
 pub use team::{execute_move, initial_children, plan_round, Groundwork, Moved, Team};

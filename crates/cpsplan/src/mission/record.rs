@@ -6,7 +6,7 @@ use std::sync::Arc;
 
 use serde::{Deserialize, Serialize};
 
-use crate::children::{and_region, ChildReach, CycleParams};
+use crate::children::{and_region, AndRegion, ChildReach, CycleParams};
 use crate::config::Config;
 use crate::geom::Point;
 use crate::grid::{OccupancyGrid, Terrain};
@@ -105,15 +105,50 @@ pub fn cycle_and_regions(
     cycle: &CycleRecord,
     config: &Config,
 ) -> Vec<Vec<bool>> {
-    let g = knowledge.geometry();
+    let len = knowledge.geometry().len();
+    move_and_regions(knowledge, std::slice::from_ref(cycle), config)
+        .into_iter()
+        .flatten()
+        .map(|r| r.to_mask(len))
+        .collect()
+}
+
+/// The AND regions of [`cycle_and_regions`] of every cycle of one move, all
+/// planned on `knowledge`, as cell lists: per cycle, per child. The children's
+/// terrain is built once for them all.
+pub fn move_and_regions(
+    knowledge: &OccupancyGrid,
+    cycles: &[CycleRecord],
+    config: &Config,
+) -> Vec<Vec<AndRegion>> {
     let params = CycleParams::from_config(config);
+    let mut terrain = None;
+    cycles
+        .iter()
+        .map(|cycle| {
+            let terrain = terrain.get_or_insert_with(|| {
+                Arc::new(Terrain::without_escape(knowledge, params.child_radius))
+            });
+            regions_on(knowledge, terrain, cycle, &params)
+        })
+        .collect()
+}
+
+/// The AND regions of `cycle`'s children on `terrain` (of `knowledge`).
+fn regions_on(
+    knowledge: &OccupancyGrid,
+    terrain: &Arc<Terrain>,
+    cycle: &CycleRecord,
+    params: &CycleParams,
+) -> Vec<AndRegion> {
+    let g = knowledge.geometry();
+    let empty = || AndRegion { cells: Vec::new() };
     let (Some(from), Some(to)) = (
         g.world_to_cell(cycle.parent_from),
         g.world_to_cell(cycle.parent_to),
     ) else {
-        return vec![vec![false; g.len()]; cycle.children.len()];
+        return vec![empty(); cycle.children.len()];
     };
-    let terrain = Arc::new(Terrain::without_escape(knowledge, params.child_radius));
     let drivable = &terrain.trav.traversable;
     let mutual = mutual_view(knowledge, from, to, params.link, |i| drivable[i]);
     cycle
@@ -121,11 +156,11 @@ pub fn cycle_and_regions(
         .iter()
         .map(|c| match g.world_to_cell(c.from) {
             Some(cell) => {
-                let reach = ChildReach::on(&terrain, g, cell)
+                let reach = ChildReach::on(terrain, g, cell)
                     .unwrap_or_else(|| ChildReach::new(knowledge, cell, params.child_radius));
-                and_region(&mutual, &reach).to_mask(g.len())
+                and_region(&mutual, &reach)
             }
-            None => vec![false; g.len()],
+            None => empty(),
         })
         .collect()
 }

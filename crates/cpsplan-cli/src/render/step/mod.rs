@@ -19,7 +19,7 @@ mod scores;
 mod tint;
 mod window;
 
-use cpsplan::mission::{cycle_and_regions, CycleRecord, MoveRecord, Step, StepPlan};
+use cpsplan::mission::{move_and_regions, CycleRecord, MoveRecord, Step, StepPlan};
 use cpsplan::parent::{Decision, ParentPlan};
 use cpsplan::{Config, OccupancyGrid, Point};
 
@@ -179,14 +179,12 @@ pub(super) fn draw_step(
 
     // AND regions: per cell, the first cycle whose region (any child's) holds it.
     let mut full_levels = vec![0u8; g.len()];
-    for (k, cycle) in step.movement.cycles.iter().enumerate() {
+    let regions = move_and_regions(knowledge, &step.movement.cycles, config);
+    for (k, cycle_regions) in regions.iter().enumerate() {
         let level = u8::try_from(k + 1).unwrap_or(u8::MAX);
-        for mask in cycle_and_regions(knowledge, cycle, config) {
-            if mask.len() != full_levels.len() {
-                continue;
-            }
-            for (l, &inside) in full_levels.iter_mut().zip(&mask) {
-                if inside && *l == 0 {
+        for region in cycle_regions {
+            for &i in &region.cells {
+                if let Some(l) = full_levels.get_mut(i as usize).filter(|l| **l == 0) {
                     *l = level;
                 }
             }
