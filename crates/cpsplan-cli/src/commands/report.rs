@@ -36,6 +36,11 @@ figure{margin:0}figure svg{width:100%;height:auto;border:1px solid #d9e2ec;borde
 /// The colour of the known-map bound's line.
 const BOUND_COLOUR: (u8, u8, u8) = (26, 26, 26);
 
+/// What the headline table says.
+const HEADLINE_NOTE: &str = "Means over the seeds of each condition (± the standard deviation); \
+    \"to 90 %\": scans until 90 % of the reachable free space was covered; \"m² per scan\" and \
+    \"m² per m\": the free space covered per scan and per metre of parent travel.";
+
 /// What the table against the bound says.
 const BOUND_NOTE: &str = "The known-map yardstick of each episode's map and start (`cpsplan bound`): \
     the stations a greedy set cover that knew the map would need for 90 and 99 % of the coverable cells, \
@@ -71,24 +76,106 @@ fn file_part(name: &str) -> String {
         .collect()
 }
 
-/// The series of `conditions` for one chart: each condition's colour and dash
-/// by its place among the map's conditions.
+/// The line style of each of a map's conditions: `(colour, dashed)`.
+///
+/// Conditions named by two or more axes (`team/paper`, `single/paper`, ...)
+/// whose leading axes take two values get a colour for the last axis and a
+/// dash for the second value of the others, so that a reader matches the
+/// planners across the parameter sets at a glance; otherwise each condition
+/// takes the next colour, dashed once the colours run out.
+fn styles(conditions: &[&Condition<'_>]) -> Vec<((u8, u8, u8), bool)> {
+    let by_place = |k: usize| {
+        (
+            SERIES_COLOURS[k % SERIES_COLOURS.len()],
+            (k / SERIES_COLOURS.len()) % 2 == 1,
+        )
+    };
+    let split: Vec<Option<(&str, &str)>> = conditions
+        .iter()
+        .map(|c| c.within_map.rsplit_once('/'))
+        .collect();
+    let mut heads: Vec<&str> = Vec::new();
+    let mut lasts: Vec<&str> = Vec::new();
+    for (head, last) in split.iter().flatten() {
+        if !heads.contains(head) {
+            heads.push(head);
+        }
+        if !lasts.contains(last) {
+            lasts.push(last);
+        }
+    }
+    let two_axes = split.iter().all(Option::is_some)
+        && heads.len() == 2
+        && lasts.len() <= SERIES_COLOURS.len();
+    split
+        .iter()
+        .enumerate()
+        .map(|(k, parts)| match parts {
+            Some((head, last)) if two_axes => {
+                let colour = lasts.iter().position(|l| l == last).unwrap_or(k);
+                (SERIES_COLOURS[colour], heads[0] != *head)
+            }
+            _ => by_place(k),
+        })
+        .collect()
+}
+
+/// The series of `conditions` for one chart, styled by [`styles`]; conditions
+/// whose curves are the same (the same scans with and without the team, say)
+/// share one line, labelled with all their names.
 fn series(
     conditions: &[&Condition<'_>],
     points: impl Fn(&Condition<'_>) -> Option<(Vec<(f64, f64)>, Vec<(f64, f64, f64)>)>,
 ) -> Vec<Series> {
-    conditions
-        .iter()
-        .enumerate()
-        .filter_map(|(k, c)| {
-            let (points, band) = points(c)?;
-            Some(Series {
-                label: format!("{} ({} ep.)", c.within_map, c.records.len()),
-                points,
-                colour: SERIES_COLOURS[k % SERIES_COLOURS.len()],
-                dashed: (k / SERIES_COLOURS.len()) % 2 == 1,
-                band,
-            })
+    struct Line<'c> {
+        names: Vec<&'c str>,
+        episodes: Vec<usize>,
+        series: Series,
+    }
+    let styles = styles(conditions);
+    let mut lines: Vec<Line<'_>> = Vec::new();
+    for (c, (colour, dashed)) in conditions.iter().zip(styles) {
+        let Some((points, band)) = points(c) else {
+            continue;
+        };
+        let episodes = c.records.len();
+        match lines
+            .iter_mut()
+            .find(|l| l.series.points == points && l.series.band == band)
+        {
+            Some(same) => {
+                same.names.push(&c.within_map);
+                same.episodes.push(episodes);
+            }
+            None => lines.push(Line {
+                names: vec![&c.within_map],
+                episodes: vec![episodes],
+                series: Series {
+                    label: String::new(),
+                    points,
+                    colour,
+                    dashed,
+                    band,
+                },
+            }),
+        }
+    }
+    lines
+        .into_iter()
+        .map(|mut l| {
+            let same_count = l.episodes.windows(2).all(|w| w[0] == w[1]);
+            l.series.label = match (l.names.len(), same_count) {
+                (1, _) => format!("{} ({} ep.)", l.names[0], l.episodes[0]),
+                (_, true) => format!("{} ({} ep. each)", l.names.join(" = "), l.episodes[0]),
+                _ => l
+                    .names
+                    .iter()
+                    .zip(&l.episodes)
+                    .map(|(n, e)| format!("{n} ({e} ep.)"))
+                    .collect::<Vec<_>>()
+                    .join(" = "),
+            };
+            l.series
         })
         .collect()
 }
@@ -189,8 +276,7 @@ pub fn run(args: &ReportArgs) -> Result<()> {
     }
     let mut md = format!(
         "# Experiment `{}`\n\n{}\n\n{} of {} episodes recorded{}.\n\n## Headline figures\n\n\
-         Means over the seeds of each condition (± the standard deviation); \"to 90 %\": scans \
-         until 90 % of the reachable free space was covered.\n\n",
+         {HEADLINE_NOTE}\n\n",
         plan.name,
         plan.description,
         records.len(),
@@ -211,11 +297,11 @@ pub fn run(args: &ReportArgs) -> Result<()> {
     let mut html = format!(
         "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n\
          <title>{name}</title>\n<style>{STYLE}</style>\n</head>\n<body>\n<h1>Experiment <code>{name}</code></h1>\n\
-         <p>{description}</p>\n<p>{count}</p>\n<h2>Headline figures</h2>\n<p>Means over the seeds of each \
-         condition (± the standard deviation); \u{201c}to 90 %\u{201d}: scans until 90 % of the reachable free \
-         space was covered.</p>\n<div class=\"wide\">{table}</div>",
+         <p>{description}</p>\n<p>{count}</p>\n<h2>Headline figures</h2>\n<p>{note}</p>\n\
+         <div class=\"wide\">{table}</div>",
         name = escape(&plan.name),
         description = escape(&plan.description),
+        note = escape(HEADLINE_NOTE),
         count = escape(&format!(
             "{} of {} episodes recorded.",
             records.len(),
@@ -325,4 +411,88 @@ pub fn run(args: &ReportArgs) -> Result<()> {
         );
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::experiment::spec::parse_plan;
+    use crate::experiment::summary::tests::record;
+
+    #[test]
+    fn planners_keep_a_colour_across_the_sets_and_equal_curves_share_a_line() {
+        let plan = parse_plan(
+            "name = \"x\"\nmaps = [\"builtin:site\"]\nplanners = [\"paper\", \"tour\"]\n\
+             [[parameters]]\nname = \"team\"\n[[parameters]]\nname = \"single\"\n",
+            std::path::Path::new("x.toml"),
+        )
+        .unwrap();
+        let labels: Vec<&str> = plan.episodes.iter().map(|e| e.label.as_str()).collect();
+        assert_eq!(
+            labels,
+            [
+                "site/team/paper/seed0",
+                "site/team/tour/seed0",
+                "site/single/paper/seed0",
+                "site/single/tour/seed0"
+            ]
+        );
+        // The paper planner scans alike in both sets; the tour does not.
+        let records = vec![
+            record(&plan, 0, &[0.5, 1.0]),
+            record(&plan, 1, &[0.6, 1.0]),
+            record(&plan, 2, &[0.5, 1.0]),
+            record(&plan, 3, &[0.7, 0.9, 1.0]),
+        ];
+        let all = conditions(&records);
+        let here: Vec<&Condition<'_>> = all.iter().collect();
+        assert_eq!(
+            styles(&here),
+            [
+                (SERIES_COLOURS[0], false),
+                (SERIES_COLOURS[1], false),
+                (SERIES_COLOURS[0], true),
+                (SERIES_COLOURS[1], true)
+            ],
+            "a colour per planner, dashed for the second set"
+        );
+        let lines = series(&here, |c| {
+            curve(c, Metric::Coverage).map(|k| (k.median, k.quartiles))
+        });
+        let labels: Vec<&str> = lines.iter().map(|s| s.label.as_str()).collect();
+        assert_eq!(
+            labels,
+            [
+                "team/paper = single/paper (1 ep. each)",
+                "team/tour (1 ep.)",
+                "single/tour (1 ep.)"
+            ]
+        );
+        assert_eq!(
+            (lines[2].colour, lines[2].dashed),
+            (SERIES_COLOURS[1], true)
+        );
+        // One axis: a colour each, in order.
+        let plan = parse_plan(
+            "name = \"y\"\nmaps = [\"builtin:site\"]\nplanners = [\"paper\", \"tour\", \"gain\"]\n",
+            std::path::Path::new("y.toml"),
+        )
+        .unwrap();
+        let records: Vec<EpisodeRecord> = (0..3).map(|i| record(&plan, i, &[0.5, 1.0])).collect();
+        let all = conditions(&records);
+        let here: Vec<&Condition<'_>> = all.iter().collect();
+        assert_eq!(
+            styles(&here),
+            [
+                (SERIES_COLOURS[0], false),
+                (SERIES_COLOURS[1], false),
+                (SERIES_COLOURS[2], false)
+            ]
+        );
+        let lines = series(&here, |c| {
+            curve(c, Metric::Coverage).map(|k| (k.median, k.quartiles))
+        });
+        assert_eq!(lines.len(), 1);
+        assert_eq!(lines[0].label, "paper = tour = gain (1 ep. each)");
+    }
 }

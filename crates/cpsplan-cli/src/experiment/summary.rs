@@ -237,6 +237,10 @@ pub struct Headline {
     pub scans_to_99_mean: Option<f64>,
     /// Final coverage.
     pub coverage_mean: Option<f64>,
+    /// Free space covered per scan, m² (coverage per scan, paper Fig. 9).
+    pub area_per_scan_m2_mean: Option<f64>,
+    /// Free space covered per metre of parent travel, m² (coverage per metre).
+    pub area_per_travel_m2_per_m_mean: Option<f64>,
     /// Parent travel, m.
     pub parent_travel_m_mean: Option<f64>,
     /// Its standard deviation.
@@ -289,6 +293,29 @@ pub fn headline(condition: &Condition<'_>) -> Headline {
             Outcome::Failed { .. } => None,
         })
         .collect();
+    // The free space each finished episode covered, m², with its summary.
+    let covered: Vec<(&cpsplan::mission::Summary, f64)> = condition
+        .records
+        .iter()
+        .filter_map(|r| match &r.outcome {
+            Outcome::Finished { summary, .. } => {
+                let cell = r.episode.config.resolution.powi(2);
+                Some((
+                    summary.as_ref(),
+                    summary.coverage * summary.reachable_free_cells as f64 * cell,
+                ))
+            }
+            Outcome::Failed { .. } => None,
+        })
+        .collect();
+    let area_per = |per: &dyn Fn(&cpsplan::mission::Summary) -> f64| {
+        let v: Vec<f64> = covered
+            .iter()
+            .filter(|(s, _)| per(s) > 0.0)
+            .map(|(s, a)| a / per(s))
+            .collect();
+        mean_sd(&v).map(|m| m.0)
+    };
     let of = |f: &dyn Fn(&cpsplan::mission::Summary) -> Option<f64>| {
         let v: Vec<f64> = finished.iter().filter_map(|(s, _)| f(s)).collect();
         mean_sd(&v)
@@ -341,6 +368,8 @@ pub fn headline(condition: &Condition<'_>) -> Headline {
         scans_to_90_mean: to(0.9),
         scans_to_99_mean: to(0.99),
         coverage_mean: of(&|s| Some(s.coverage)).map(|m| m.0),
+        area_per_scan_m2_mean: area_per(&|s| s.scans as f64),
+        area_per_travel_m2_per_m_mean: area_per(&|s| s.parent_travel_m),
         parent_travel_m_mean: travel.map(|m| m.0),
         parent_travel_m_sd: travel.map(|m| m.1),
         child_travel_m_mean: of(&|s| {
@@ -377,9 +406,10 @@ fn pm(mean: Option<f64>, sd: Option<f64>, digits: usize) -> String {
 /// The headline table as Markdown.
 pub fn markdown_table(rows: &[Headline]) -> String {
     let mut out = String::from(
-        "| condition | episodes | scans | to 90 % | to 99 % | coverage | parent travel, m | \
-         children's travel, m | CPS cycles | moves with subgoals | final σ, mm | σ / travel | \
-         campaign, h |\n|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n",
+        "| condition | episodes | scans | to 90 % | to 99 % | coverage | m² per scan | \
+         parent travel, m | m² per m | children's travel, m | CPS cycles | moves with subgoals | \
+         final σ, mm | σ / travel | campaign, h |\n\
+         |---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n",
     );
     for r in rows {
         let episodes = if r.failed > 0 {
@@ -388,7 +418,7 @@ pub fn markdown_table(rows: &[Headline]) -> String {
             r.episodes.to_string()
         };
         out.push_str(&format!(
-            "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |\n",
+            "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |\n",
             r.condition,
             episodes,
             pm(r.scans_mean, r.scans_sd, 1),
@@ -396,7 +426,9 @@ pub fn markdown_table(rows: &[Headline]) -> String {
             cell(r.scans_to_99_mean, 1),
             r.coverage_mean
                 .map_or("—".into(), |c| format!("{:.2} %", 100.0 * c)),
+            cell(r.area_per_scan_m2_mean, 1),
             pm(r.parent_travel_m_mean, r.parent_travel_m_sd, 0),
+            cell(r.area_per_travel_m2_per_m_mean, 2),
             cell(r.child_travel_m_mean, 0),
             cell(r.cps_cycles_mean, 1),
             cell(r.subgoal_retrievals_mean, 1),
@@ -470,14 +502,20 @@ pub fn csv_table(rows: &[Headline]) -> anyhow::Result<Vec<u8>> {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use crate::experiment::spec::parse_plan;
     use cpsplan::mission::{StopReason, Summary};
     use cpsplan::Point;
 
-    /// A finished record of episode `index` of `plan` with the given coverages.
-    fn record(plan: &crate::experiment::Plan, index: usize, coverage: &[f64]) -> EpisodeRecord {
+    /// A finished record of episode `index` of `plan` with the given coverages
+    /// of 10 000 reachable free cells (100 m² at the default 0.1 m), 10 m of
+    /// travel between scans.
+    pub(crate) fn record(
+        plan: &crate::experiment::Plan,
+        index: usize,
+        coverage: &[f64],
+    ) -> EpisodeRecord {
         let scans: Vec<ScanRecord> = coverage
             .iter()
             .enumerate()
@@ -499,7 +537,7 @@ mod tests {
             coverage: *coverage.last().unwrap(),
             wall_coverage: 1.0,
             connected_coverage: 1.0,
-            reachable_free_cells: 1,
+            reachable_free_cells: 10_000,
             connected_free_cells: 1,
             map_free_cells: 1,
             parent_travel_m: scans.last().unwrap().parent_travel_m,
@@ -570,12 +608,16 @@ mod tests {
         // 90 %: scans 2, 2, 4 → 8/3; 99 %: scans 3 and 4 (the second never got there).
         assert!((h.scans_to_90_mean.unwrap() - 8.0 / 3.0).abs() < 1e-12);
         assert!((h.scans_to_99_mean.unwrap() - 3.5).abs() < 1e-12);
+        // Covered 100, 95 and 99 m² in 3, 2 and 4 scans over 20, 10 and 30 m.
+        let per_scan = (100.0 / 3.0 + 95.0 / 2.0 + 99.0 / 4.0) / 3.0;
+        assert!((h.area_per_scan_m2_mean.unwrap() - per_scan).abs() < 1e-9);
+        let per_m = (100.0 / 20.0 + 95.0 / 10.0 + 99.0 / 30.0) / 3.0;
+        assert!((h.area_per_travel_m2_per_m_mean.unwrap() - per_m).abs() < 1e-9);
         let md = markdown_table(std::slice::from_ref(&h));
         assert!(
-            md.lines()
-                .nth(2)
-                .unwrap()
-                .starts_with("| site | 3 | 3.0 ± 1.0 |"),
+            md.lines().nth(2).unwrap().starts_with(
+                "| site | 3 | 3.0 ± 1.0 | 2.7 | 3.5 | 98.00 % | 35.2 | 20 ± 10 | 5.93 |"
+            ),
             "{md}"
         );
         let csv = String::from_utf8(csv_table(&[h]).unwrap()).unwrap();
