@@ -33,6 +33,23 @@ fn chromium(test: &str) -> Option<PathBuf> {
     None
 }
 
+/// Headless `chrome` with its own new profile in `profile`, and without the
+/// background connections a closed network refuses.
+fn headless(chrome: &Path, profile: &Path) -> std::process::Command {
+    let mut c = std::process::Command::new(chrome);
+    c.args([
+        "--headless",
+        "--no-sandbox",
+        "--disable-gpu",
+        "--no-first-run",
+        "--disable-background-networking",
+        "--disable-component-update",
+        "--disable-sync",
+    ])
+    .arg(format!("--user-data-dir={}", profile.display()));
+    c
+}
+
 fn page(dir: &Path, scans: &str) -> (PathBuf, String) {
     Command::cargo_bin("cpsplan")
         .expect("binary built")
@@ -127,11 +144,8 @@ fn chromium_renders_the_map_and_stepping_changes_it() {
     let (path, _) = page(&tmp.path().join("out"), "8");
     let url = |hash: &str| format!("file://{}#{hash}", path.display());
     let run = |args: &[String]| {
-        let out = std::process::Command::new(&chrome)
+        let out = headless(&chrome, &tmp.path().join("profile"))
             .args([
-                "--headless",
-                "--no-sandbox",
-                "--disable-gpu",
                 "--hide-scrollbars",
                 "--window-size=1400,1000",
                 "--virtual-time-budget=20000",
@@ -204,11 +218,8 @@ fn chromium_plays_an_experiments_episodes_in_its_report() {
     }
     let path = out.join("report/report.html");
     let dom = |hash: &str| {
-        let out = std::process::Command::new(&chrome)
+        let out = headless(&chrome, &tmp.path().join("profile"))
             .args([
-                "--headless",
-                "--no-sandbox",
-                "--disable-gpu",
                 "--window-size=1400,1000",
                 "--virtual-time-budget=20000",
                 "--dump-dom",
