@@ -76,14 +76,17 @@ fn file_part(name: &str) -> String {
         .collect()
 }
 
-/// The line style of each of a map's conditions: `(colour, dashed)`.
+/// A line's style: its colour, and whether it is dashed.
+type Style = ((u8, u8, u8), bool);
+
+/// The line style of each of a map's conditions.
 ///
 /// Conditions named by two or more axes (`team/paper`, `single/paper`, ...)
 /// whose leading axes take two values get a colour for the last axis and a
 /// dash for the second value of the others, so that a reader matches the
 /// planners across the parameter sets at a glance; otherwise each condition
 /// takes the next colour, dashed once the colours run out.
-fn styles(conditions: &[&Condition<'_>]) -> Vec<((u8, u8, u8), bool)> {
+fn styles(conditions: &[&Condition<'_>]) -> Vec<Style> {
     let by_place = |k: usize| {
         (
             SERIES_COLOURS[k % SERIES_COLOURS.len()],
@@ -111,10 +114,12 @@ fn styles(conditions: &[&Condition<'_>]) -> Vec<((u8, u8, u8), bool)> {
         .iter()
         .enumerate()
         .map(|(k, parts)| match parts {
-            Some((head, last)) if two_axes => {
-                let colour = lasts.iter().position(|l| l == last).unwrap_or(k);
-                (SERIES_COLOURS[colour], heads[0] != *head)
-            }
+            Some((head, last)) if two_axes => lasts
+                .iter()
+                .position(|l| l == last)
+                .map_or(by_place(k), |colour| {
+                    (SERIES_COLOURS[colour], heads[0] != *head)
+                }),
             _ => by_place(k),
         })
         .collect()
@@ -178,6 +183,14 @@ fn series(
             l.series
         })
         .collect()
+}
+
+/// The series of `metric` against the scan number: each condition's median
+/// over its seeds with their quartiles as a band.
+fn metric_series(conditions: &[&Condition<'_>], metric: Metric) -> Vec<Series> {
+    series(conditions, |c| {
+        curve(c, metric).map(|k| (k.median, k.quartiles))
+    })
 }
 
 /// The typical episode of `condition`: of its finished episodes with a page,
@@ -334,7 +347,7 @@ pub fn run(args: &ReportArgs) -> Result<()> {
             .collect();
         let bound = greedy_bound_curve(&map_records);
         for metric in METRICS {
-            let mut s = series(&here, |c| curve(c, metric).map(|k| (k.median, k.quartiles)));
+            let mut s = metric_series(&here, metric);
             if s.is_empty() {
                 continue;
             }
@@ -419,6 +432,13 @@ mod tests {
     use crate::experiment::spec::parse_plan;
     use crate::experiment::summary::tests::record;
 
+    /// The styles of the conditions of `records` and their coverage lines.
+    fn styles_and_lines(records: &[EpisodeRecord]) -> (Vec<Style>, Vec<Series>) {
+        let all = conditions(records);
+        let here: Vec<&Condition<'_>> = all.iter().collect();
+        (styles(&here), metric_series(&here, Metric::Coverage))
+    }
+
     #[test]
     fn planners_keep_a_colour_across_the_sets_and_equal_curves_share_a_line() {
         let plan = parse_plan(
@@ -444,10 +464,9 @@ mod tests {
             record(&plan, 2, &[0.5, 1.0]),
             record(&plan, 3, &[0.7, 0.9, 1.0]),
         ];
-        let all = conditions(&records);
-        let here: Vec<&Condition<'_>> = all.iter().collect();
+        let (styles, lines) = styles_and_lines(&records);
         assert_eq!(
-            styles(&here),
+            styles,
             [
                 (SERIES_COLOURS[0], false),
                 (SERIES_COLOURS[1], false),
@@ -456,9 +475,6 @@ mod tests {
             ],
             "a colour per planner, dashed for the second set"
         );
-        let lines = series(&here, |c| {
-            curve(c, Metric::Coverage).map(|k| (k.median, k.quartiles))
-        });
         let labels: Vec<&str> = lines.iter().map(|s| s.label.as_str()).collect();
         assert_eq!(
             labels,
@@ -479,19 +495,15 @@ mod tests {
         )
         .unwrap();
         let records: Vec<EpisodeRecord> = (0..3).map(|i| record(&plan, i, &[0.5, 1.0])).collect();
-        let all = conditions(&records);
-        let here: Vec<&Condition<'_>> = all.iter().collect();
+        let (styles, lines) = styles_and_lines(&records);
         assert_eq!(
-            styles(&here),
+            styles,
             [
                 (SERIES_COLOURS[0], false),
                 (SERIES_COLOURS[1], false),
                 (SERIES_COLOURS[2], false)
             ]
         );
-        let lines = series(&here, |c| {
-            curve(c, Metric::Coverage).map(|k| (k.median, k.quartiles))
-        });
         assert_eq!(lines.len(), 1);
         assert_eq!(lines[0].label, "paper = tour = gain (1 ep. each)");
     }

@@ -285,45 +285,35 @@ impl Headline {
 
 /// The headline figures of `condition`.
 pub fn headline(condition: &Condition<'_>) -> Headline {
-    let finished: Vec<(&cpsplan::mission::Summary, &Vec<ScanRecord>)> = condition
+    // Each finished episode's summary, scans and free space covered, m².
+    let finished: Vec<(&cpsplan::mission::Summary, &Vec<ScanRecord>, f64)> = condition
         .records
         .iter()
         .filter_map(|r| match &r.outcome {
-            Outcome::Finished { summary, scans, .. } => Some((summary.as_ref(), scans)),
-            Outcome::Failed { .. } => None,
-        })
-        .collect();
-    // The free space each finished episode covered, m², with its summary.
-    let covered: Vec<(&cpsplan::mission::Summary, f64)> = condition
-        .records
-        .iter()
-        .filter_map(|r| match &r.outcome {
-            Outcome::Finished { summary, .. } => {
+            Outcome::Finished { summary, scans, .. } => {
                 let cell = r.episode.config.resolution.powi(2);
-                Some((
-                    summary.as_ref(),
-                    summary.coverage * summary.reachable_free_cells as f64 * cell,
-                ))
+                let covered = summary.coverage * summary.reachable_free_cells as f64 * cell;
+                Some((summary.as_ref(), scans, covered))
             }
             Outcome::Failed { .. } => None,
         })
         .collect();
     let area_per = |per: &dyn Fn(&cpsplan::mission::Summary) -> f64| {
-        let v: Vec<f64> = covered
+        let v: Vec<f64> = finished
             .iter()
-            .filter(|(s, _)| per(s) > 0.0)
-            .map(|(s, a)| a / per(s))
+            .filter(|(s, _, _)| per(s) > 0.0)
+            .map(|(s, _, covered)| covered / per(s))
             .collect();
         mean_sd(&v).map(|m| m.0)
     };
     let of = |f: &dyn Fn(&cpsplan::mission::Summary) -> Option<f64>| {
-        let v: Vec<f64> = finished.iter().filter_map(|(s, _)| f(s)).collect();
+        let v: Vec<f64> = finished.iter().filter_map(|(s, _, _)| f(s)).collect();
         mean_sd(&v)
     };
     let to = |share: f64| {
         let v: Vec<f64> = finished
             .iter()
-            .filter_map(|(_, scans)| scans.iter().find(|s| s.coverage >= share))
+            .filter_map(|(_, scans, _)| scans.iter().find(|s| s.coverage >= share))
             .map(|s| s.scan as f64)
             .collect();
         mean_sd(&v).map(|m| m.0)
@@ -363,8 +353,8 @@ pub fn headline(condition: &Condition<'_>) -> Headline {
         failed: condition.records.len() - finished.len(),
         scans_mean: scans.map(|m| m.0),
         scans_sd: scans.map(|m| m.1),
-        scans_min: finished.iter().map(|(s, _)| s.scans).min(),
-        scans_max: finished.iter().map(|(s, _)| s.scans).max(),
+        scans_min: finished.iter().map(|(s, _, _)| s.scans).min(),
+        scans_max: finished.iter().map(|(s, _, _)| s.scans).max(),
         scans_to_90_mean: to(0.9),
         scans_to_99_mean: to(0.99),
         coverage_mean: of(&|s| Some(s.coverage)).map(|m| m.0),
