@@ -172,7 +172,7 @@ fn bench_parent_round(group: &mut BenchmarkGroup<'_, WallTime>, m: &MidEpisode) 
             )
         })
     });
-    let mut tour = *config;
+    let mut tour = config.clone();
     tour.parent.planner = cpsplan::config::Planner::Tour;
     group.bench_function("plan_parent_tour", |b| {
         b.iter(|| {
@@ -276,7 +276,7 @@ fn team(c: &mut Criterion) {
         group.bench_function(format!("plan_step_{name}"), |b| {
             b.iter(|| plan_step(black_box(k), s.parent, &s.children, &config).expect("plan"))
         });
-        let mut min_error = config;
+        let mut min_error = config.clone();
         min_error.children.strategy = ChildStrategy::MinError;
         group.bench_function(format!("plan_step_{name}_min_error"), |b| {
             b.iter(|| plan_step(black_box(k), s.parent, &s.children, &min_error).expect("plan"))

@@ -119,7 +119,7 @@ fn the_team_moves_to_each_planner_s_choice() {
         let mut team = config(planner);
         team.children.count = 2;
         team.mission.max_scans = 14;
-        let mut alone = team;
+        let mut alone = team.clone();
         alone.children.count = 0;
         let mut moves = 0;
         let with = run_episode_with(

@@ -78,7 +78,7 @@ fn run_small(config: &Config) {
                     max_grid_cells: 200_000,
                     ..config.limits
                 },
-                ..*config
+                ..config.clone()
             },
         )
         .expect_err("beyond the test's grid cap");
@@ -88,7 +88,7 @@ fn run_small(config: &Config) {
     let Some(start) = default_start(&grid) else {
         return; // so coarse that no free cell is left
     };
-    let mut config = *config;
+    let mut config = config.clone();
     config.mission.max_scans = config.mission.max_scans.min(4);
     config.accuracy.monte_carlo_runs = config.accuracy.monte_carlo_runs.min(200);
     let episode = run_episode(&grid, start, &config, |_| {}).expect("a valid configuration runs");

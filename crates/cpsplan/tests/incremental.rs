@@ -22,7 +22,7 @@ fn kept_gain_field_equals_a_fresh_one_on_the_builtin_maps() {
             let range = config.range_cells();
             let mut checked = 0usize;
             run_episode_with(&truth, map.default_start(), &config, |step, knowledge| {
-                let mut round = config;
+                let mut round = config.clone();
                 round.parent.gain_scale = step.gain_scale;
                 let fresh = GainEstimate::new(knowledge, &round);
                 for c in step.plan.candidates.iter().filter(|c| c.r == 1) {

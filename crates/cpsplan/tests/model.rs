@@ -34,7 +34,7 @@ fn exact_poses(ep: &Episode) -> Episode {
 #[test]
 fn without_noise_every_point_lies_on_a_ground_truth_wall() {
     let (truth, ep) = episode();
-    let mut config = ep.config;
+    let mut config = ep.config.clone();
     config.model.range_sigma_mm = Some(0.0);
     let ep = exact_poses(ep);
     let mut points: Vec<ModelPoint> = Vec::new();
@@ -68,7 +68,7 @@ fn without_noise_every_point_lies_on_a_ground_truth_wall() {
 #[test]
 fn range_noise_alone_spreads_the_points_by_its_sigma() {
     let (truth, ep) = episode();
-    let mut config = ep.config;
+    let mut config = ep.config.clone();
     config.model.range_sigma_mm = Some(5.0);
     let model = build_model(truth, &exact_poses(ep), &config, |_, _| {}).unwrap();
     let a = &model.accuracy;
@@ -87,7 +87,7 @@ fn range_noise_alone_spreads_the_points_by_its_sigma() {
 #[test]
 fn the_estimated_poses_move_each_scan_by_at_most_their_error() {
     let (truth, ep) = episode();
-    let config = ep.config;
+    let config = ep.config.clone();
     let model = build_model(truth, ep, &config, |_, _| {}).unwrap();
     let a = &model.accuracy;
     assert!(a.max_position_error_m > 0.0);
@@ -116,7 +116,7 @@ fn the_estimated_poses_move_each_scan_by_at_most_their_error() {
 #[test]
 fn the_point_limit_is_checked_before_the_points_are_made() {
     let (truth, ep) = episode();
-    let mut config = ep.config;
+    let mut config = ep.config.clone();
     config.limits.max_cloud_points = 1000;
     let mut called = false;
     let e = build_model(truth, ep, &config, |_, _| called = true).unwrap_err();

@@ -13,7 +13,7 @@ use crate::report::write_temp;
 /// is moved into place only once the plan has been printed.
 pub fn run(args: &PlanArgs) -> Result<()> {
     let file = read_config(args.config.as_deref())?;
-    let mut config = file.config;
+    let mut config = file.config.clone();
     if file.sets("children.count") && config.children.count != args.children.len() {
         bail!(
             "the config file sets children.count = {}, but {} --child position{} given; \

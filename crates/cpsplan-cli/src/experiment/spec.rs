@@ -363,7 +363,7 @@ fn expand(file: ExperimentFile, path: &Path) -> Result<Plan, SpecError> {
                 for &strategy in &strategies {
                     for &instrument in &instruments {
                         for &seed in &seeds {
-                            let mut config = *base;
+                            let mut config = base.clone();
                             if let Some(p) = planner {
                                 config.parent.planner = p;
                             }

@@ -544,6 +544,14 @@ pub(crate) mod tests {
             campaign_time_h: scans.last().unwrap().clock_h,
             campaign_time: Default::default(),
             planner: plan.episodes[index].planner,
+            worst_position_sigma_m: None,
+            worst_smoothed_sigma_m: None,
+            final_smoothed_sigma_m: None,
+            monte_carlo_smoothed_mean_error_m: None,
+            targets_placed: 0,
+            closures: 0,
+            closure_moves: 0,
+            sigma_violations: Vec::new(),
         };
         let spec = &plan.episodes[index];
         let mut r = EpisodeRecord::failed("x", spec, String::new(), 0.0);

@@ -1,38 +1,81 @@
-//! The batch weighted least-squares adjustment of a whole CPS network: every
-//! station after the first and every child point unknown, every measurement at
-//! once. The reference for [`super::Chain`]: for the last station the two agree.
+//! The batch weighted least-squares adjustment of a whole CPS network, dense:
+//! every station after the first, every child point and every target unknown,
+//! every measurement at once. The reference for [`super::Chain`] (for the last
+//! station the two agree) and for [`super::Network`] (for every unknown).
 //!
-//! In: the first pose and the cycles ([`CycleGeometry`]). Out: the covariance of
-//! the last station's pose, `(AᵀWA)⁻¹` restricted to it, with the Jacobian `A`
-//! of every observation at the nominal geometry and `W` the inverse noise.
+//! In: a [`Script`]. Out: the covariance of every unknown, `(AᵀWA + P)⁻¹`
+//! restricted to it, with the Jacobian `A` of every observation at the nominal
+//! geometry, `W` the inverse noise and `P` the control points' prior
+//! information.
 
 use nalgebra::DMatrix;
 
 use super::chain::{invert_spd, ChainError};
-use super::model::Model;
+use super::geometry::CycleGeometry;
+use super::script::{Event, Script};
 use crate::geom::Point;
 
-/// One cycle of a network: where the parent goes, where every child stands, and
-/// which children moved to stand there.
-#[derive(Debug, Clone, PartialEq)]
-pub struct CycleGeometry {
-    /// The parent's position after the cycle.
-    pub to: Point,
-    /// Every child's point during the cycle.
-    pub children: Vec<Point>,
-    /// Whether each child moved (got a new point) in this cycle.
-    pub moved: Vec<bool>,
+/// The covariance of every unknown of `script` by the dense batch adjustment,
+/// indexed like its unknowns (`None`: the fixed first station).
+pub fn batch_covariances(script: &Script) -> Result<Vec<Option<DMatrix<f64>>>, ChainError> {
+    let model = script.model();
+    let vars = script.vars();
+    let mut offset = vec![None; vars.len()];
+    let mut n = 0;
+    for (v, var) in vars.iter().enumerate() {
+        if !var.fixed {
+            offset[v] = Some(n);
+            n += var.truth.len();
+        }
+    }
+    let mut normal = DMatrix::zeros(n, n);
+    for e in script.events() {
+        match *e {
+            Event::New(v) => {
+                if let (Some(o), Some(sigma)) = (offset[v], vars[v].control_sigma) {
+                    for a in 0..vars[v].truth.len() {
+                        normal[(o + a, o + a)] += 1.0 / (sigma * sigma);
+                    }
+                }
+            }
+            Event::Observe { station, point } => {
+                let (s, c) = (vars[station].truth.as_slice(), vars[point].truth.as_slice());
+                let (hs, hc) = model.jacobians(s, c);
+                let w = invert_spd(&model.noise(s, c)).ok_or(ChainError::Singular)?;
+                let mut a = DMatrix::zeros(hs.nrows(), n);
+                if let Some(o) = offset[station] {
+                    a.view_mut((0, o), (hs.nrows(), hs.ncols())).copy_from(&hs);
+                }
+                if let Some(o) = offset[point] {
+                    a.view_mut((0, o), (hc.nrows(), hc.ncols())).copy_from(&hc);
+                }
+                normal += a.transpose() * w * a;
+            }
+            Event::Retire(_) => {}
+        }
+    }
+    let cov = invert_spd(&normal).ok_or(ChainError::Singular)?;
+    Ok(vars
+        .iter()
+        .zip(&offset)
+        .map(|(var, o)| {
+            o.map(|o| {
+                let d = var.truth.len();
+                cov.view((o, o), (d, d)).into_owned()
+            })
+        })
+        .collect())
 }
 
 /// The covariance of the last station's pose (`station_dim` square, in the model's
-/// station order) by the batch adjustment of the network that starts with the
-/// parent exactly at `start` and runs `cycles`.
+/// station order) by the batch adjustment of the chain without targets that
+/// starts with the parent exactly at `start` and runs `cycles`.
 pub fn batch_station_covariance(
-    model: &Model,
+    model: &super::Model,
     start: Point,
     cycles: &[CycleGeometry],
 ) -> Result<DMatrix<f64>, ChainError> {
-    let (ds, dp, m) = (model.station_dim(), model.point_dim(), model.obs_dim());
+    let ds = model.station_dim();
     let Some(first) = cycles.first() else {
         return Ok(DMatrix::zeros(ds, ds));
     };
@@ -40,54 +83,19 @@ pub fn batch_station_covariance(
     if n < 2 {
         return Err(ChainError::TooFewChildren(n));
     }
-    // Unknowns: stations 1..=K, then one point per forward measurement.
-    let k = cycles.len();
-    let mut point_of = vec![usize::MAX; n];
-    let mut points: Vec<(usize, Point)> = Vec::new(); // (child, where)
-                                                      // (station index 0..=K, point index) observation pairs.
-    let mut links: Vec<(usize, usize)> = Vec::new();
-    for (c, cycle) in cycles.iter().enumerate() {
-        for (i, slot) in point_of.iter_mut().enumerate() {
-            if cycle.moved[i] || *slot == usize::MAX {
-                *slot = points.len();
-                points.push((i, cycle.children[i]));
-                links.push((c, *slot));
-            }
-        }
-        for &p in &point_of {
-            links.push((c + 1, p));
-        }
+    let mut script = Script::new(*model, start, n, &[]);
+    for c in cycles {
+        script.cycle(c);
     }
-    let unknowns = k * ds + points.len() * dp;
-    let station_state = |s: usize| {
-        let p = if s == 0 { start } else { cycles[s - 1].to };
-        model.station(p, 0.0)
-    };
-    let mut normal = DMatrix::zeros(unknowns, unknowns);
-    for &(s, p) in &links {
-        let st = station_state(s);
-        let pt = model.point(points[p].1);
-        let (hs, hc) = model.jacobians(st.as_slice(), pt.as_slice());
-        let w =
-            invert_spd(&model.noise(st.as_slice(), pt.as_slice())).ok_or(ChainError::Singular)?;
-        // The row block of this observation over the unknowns.
-        let mut a = DMatrix::zeros(m, unknowns);
-        if s > 0 {
-            a.view_mut((0, (s - 1) * ds), (m, ds)).copy_from(&hs);
-        }
-        a.view_mut((0, k * ds + p * dp), (m, dp)).copy_from(&hc);
-        normal += a.transpose() * w * a;
-    }
-    let cov = invert_spd(&normal).ok_or(ChainError::Singular)?;
-    Ok(cov
-        .view(((k - 1) * ds, (k - 1) * ds), (ds, ds))
-        .into_owned())
+    let last = *script.stations().last().expect("a station per cycle");
+    let all = batch_covariances(&script)?;
+    all[last].clone().ok_or(ChainError::Singular)
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::accuracy::{Chain, Instrument};
+    use crate::accuracy::{Chain, Instrument, Model};
     use crate::config::InstrumentConfig;
     use proptest::prelude::*;
 
@@ -101,10 +109,12 @@ mod tests {
                 |(three_d, n, cs)| {
                     let cycles = cs
                         .into_iter()
-                        .map(|((tx, ty), kids)| CycleGeometry {
-                            to: Point::new(tx, ty),
-                            children: kids.iter().map(|&(x, y, _)| Point::new(x, y)).collect(),
-                            moved: kids.iter().map(|&(_, _, m)| m).collect(),
+                        .map(|((tx, ty), kids)| {
+                            CycleGeometry::plain(
+                                Point::new(tx, ty),
+                                kids.iter().map(|&(x, y, _)| Point::new(x, y)).collect(),
+                                kids.iter().map(|&(_, _, m)| m).collect(),
+                            )
                         })
                         .collect();
                     (three_d, n, cycles)

@@ -28,8 +28,11 @@
 use nalgebra::{DMatrix, DVector};
 use thiserror::Error;
 
+use super::geometry::TargetPoint;
 use super::model::Model;
-use crate::geom::Point;
+use crate::geom::{Cell, Point};
+use crate::grid::OccupancyGrid;
+use crate::sensing::{target_in_sight, LinkRule};
 
 /// Why the chain cannot be propagated.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Error)]
@@ -81,6 +84,12 @@ impl PoseCovariance {
         (l1.sqrt(), l2.sqrt(), angle)
     }
 
+    /// The pose covariance of a station's block (its first `station_dim` rows
+    /// and columns) of `cov`.
+    pub fn from_matrix(model: &Model, cov: &DMatrix<f64>) -> Self {
+        Self::of(model, cov)
+    }
+
     fn of(model: &Model, cov: &DMatrix<f64>) -> Self {
         let ds = model.station_dim();
         Self {
@@ -94,16 +103,33 @@ impl PoseCovariance {
 }
 
 /// The propagated state of a CPS team: nominal poses and points, and the joint
-/// covariance `[station, child 1, …, child n]`.
+/// covariance `[station, child 1, …, child n, target …]` (targets in the order
+/// the team first measured them).
 #[derive(Debug, Clone)]
 pub struct Chain {
     model: Model,
     station: DVector<f64>,
     points: Vec<Option<DVector<f64>>>,
+    /// Every target the team knows of, measured or not.
+    targets: Vec<Target>,
+    /// The targets in the joint state, in its order.
+    order: Vec<usize>,
     cov: DMatrix<f64>,
-    /// The information of the children's points before the last resection (for
-    /// the Monte Carlo estimator, which weights its prior the same way).
+    /// The information of the points (children, then targets) before the last
+    /// resection (for the Monte Carlo estimator, which weights its prior the same
+    /// way).
     prior_info: DMatrix<f64>,
+}
+
+/// A target as the chain holds it.
+#[derive(Debug, Clone)]
+struct Target {
+    /// Where it stands, the model's point state.
+    point: DVector<f64>,
+    /// The given point.
+    given: TargetPoint,
+    /// Its place in [`Chain::order`] once measured.
+    slot: Option<usize>,
 }
 
 impl Chain {
@@ -115,6 +141,8 @@ impl Chain {
             model,
             station: model.station(start, 0.0),
             points: vec![None; children],
+            targets: Vec::new(),
+            order: Vec::new(),
             cov: DMatrix::zeros(n, n),
             prior_info: DMatrix::zeros(0, 0),
         }
@@ -130,8 +158,8 @@ impl Chain {
         PoseCovariance::of(&self.model, &self.cov)
     }
 
-    /// The joint covariance `[station, child 1, …]` (children never measured have
-    /// zero blocks).
+    /// The joint covariance `[station, child 1, …, measured targets …]` (children
+    /// never measured have zero blocks).
     pub fn covariance(&self) -> &DMatrix<f64> {
         &self.cov
     }
@@ -149,25 +177,103 @@ impl Chain {
             .collect()
     }
 
-    /// The information matrix of the children's points that the last resection
-    /// started from.
+    /// The information matrix of the points (children, then measured targets)
+    /// that the last resection started from.
     pub(crate) fn prior_info(&self) -> &DMatrix<f64> {
         &self.prior_info
+    }
+
+    /// The measured targets in the joint state's order.
+    pub fn target_order(&self) -> &[usize] {
+        &self.order
+    }
+
+    /// The registered targets (measured or not) that a station at `at` measures:
+    /// within the instrument's range `rule` and in certain line of sight on
+    /// `knowledge` ([`target_in_sight`]).
+    pub fn in_sight(&self, knowledge: &OccupancyGrid, at: Cell, rule: &LinkRule) -> Vec<usize> {
+        if self.targets.is_empty() {
+            return Vec::new();
+        }
+        self.targets
+            .iter()
+            .enumerate()
+            .filter(|(_, t)| target_in_sight(knowledge, at, t.given.position, rule))
+            .map(|(i, _)| i)
+            .collect()
+    }
+
+    /// Registers a target or control point, not measured yet; returns its index.
+    pub fn add_target(&mut self, target: TargetPoint) -> usize {
+        self.targets.push(Target {
+            point: self.model.point_at(target.position, target.z),
+            given: target,
+            slot: None,
+        });
+        self.targets.len() - 1
+    }
+
+    /// Every target registered, in the order of [`Self::add_target`].
+    pub fn targets(&self) -> impl Iterator<Item = &TargetPoint> + '_ {
+        self.targets.iter().map(|t| &t.given)
+    }
+
+    /// Number of targets registered.
+    pub fn target_count(&self) -> usize {
+        self.targets.len()
+    }
+
+    /// Whether target `t` has been measured (is in the joint state).
+    pub fn measured(&self, t: usize) -> bool {
+        self.targets.get(t).is_some_and(|t| t.slot.is_some())
+    }
+
+    /// The offset of target `t` in the joint state, once measured.
+    pub fn target_offset(&self, t: usize) -> Option<usize> {
+        let slot = self.targets.get(t)?.slot?;
+        Some(self.points_end() + slot * self.model.point_dim())
+    }
+
+    /// The covariance block of target `t`'s point, once measured.
+    pub fn target_covariance(&self, t: usize) -> Option<DMatrix<f64>> {
+        let o = self.target_offset(t)?;
+        let dp = self.model.point_dim();
+        Some(self.cov.view((o, o), (dp, dp)).into_owned())
     }
 
     fn child_offset(&self, i: usize) -> usize {
         self.model.station_dim() + i * self.model.point_dim()
     }
 
-    /// One CPS cycle: the children `moved` (or never measured) get new points at
-    /// `children` measured from the parent's current station, then the parent
-    /// moves to `to` and is fixed by resection on every child. Returns the new
-    /// pose's covariance.
+    /// Where the children's blocks end and the targets' begin.
+    fn points_end(&self) -> usize {
+        self.child_offset(self.points.len())
+    }
+
+    /// One CPS cycle without targets: [`Self::cycle_sighting`] with none in
+    /// sight.
     pub fn cycle(
         &mut self,
         to: Point,
         children: &[Point],
         moved: &[bool],
+    ) -> Result<PoseCovariance, ChainError> {
+        self.cycle_sighting(to, children, moved, &[])
+    }
+
+    /// One CPS cycle: the children `moved` (or never measured) get new points at
+    /// `children` measured from the parent's current station, then the parent
+    /// moves to `to` and is fixed by resection on every child and on the targets
+    /// `sighted` that are measured already (a control point seen for the first
+    /// time enters with its known coordinates); the free targets it sees for the
+    /// first time are then measured from the new station. Returns the new pose's
+    /// covariance.
+    pub fn cycle_sighting(
+        &mut self,
+        to: Point,
+        children: &[Point],
+        moved: &[bool],
+        sighted: &[usize],
     ) -> Result<PoseCovariance, ChainError> {
         let n = self.points.len();
         debug_assert_eq!(children.len(), n);
@@ -176,22 +282,115 @@ impl Chain {
         }
         for (i, &c) in children.iter().enumerate() {
             if moved.get(i).copied().unwrap_or(true) || self.points[i].is_none() {
-                self.forward(i, self.model.point(c));
+                let o = self.child_offset(i);
+                self.forward(o, self.model.point(c));
+                self.points[i] = Some(self.model.point(c));
             }
         }
-        self.resect(self.model.station(to, 0.0))?;
+        self.enter_controls(sighted);
+        let known: Vec<usize> = sighted
+            .iter()
+            .copied()
+            .filter(|&t| self.measured(t))
+            .collect();
+        self.resect(self.model.station(to, 0.0), &known)?;
+        self.forward_new(sighted);
         Ok(self.pose())
     }
 
-    /// Step 1 for child `i`: its point `c` measured from the current station.
-    fn forward(&mut self, i: usize, c: DVector<f64>) {
+    /// [`Self::cycle_sighting`] to the centre of cell `to`, with the targets a
+    /// station there measures on `knowledge` under `rule` ([`Self::in_sight`]).
+    pub fn cycle_on(
+        &mut self,
+        knowledge: &OccupancyGrid,
+        rule: &LinkRule,
+        to: Cell,
+        children: &[Point],
+        moved: &[bool],
+    ) -> Result<PoseCovariance, ChainError> {
+        let sighted = self.in_sight(knowledge, to, rule);
+        let p = knowledge.geometry().cell_center(to);
+        self.cycle_sighting(p, children, moved, &sighted)
+    }
+
+    /// The targets `sighted` measured from the parent's current station: a free
+    /// target seen for the first time gets its point from this measurement (a
+    /// target left here by a child), a control point or a target measured before
+    /// refines the joint state (first order, the Kalman update).
+    pub fn sight_here(&mut self, sighted: &[usize]) -> Result<(), ChainError> {
+        let new: Vec<usize> = sighted
+            .iter()
+            .copied()
+            .filter(|&t| {
+                self.targets
+                    .get(t)
+                    .is_some_and(|x| x.slot.is_none() && x.given.control_sigma.is_none())
+            })
+            .collect();
+        self.enter_controls(sighted);
+        let known: Vec<usize> = sighted
+            .iter()
+            .copied()
+            .filter(|&t| self.measured(t))
+            .collect();
+        self.update_here(&known)?;
+        self.forward_new(&new);
+        Ok(())
+    }
+
+    /// Control points in `sighted` not in the joint state yet enter it with their
+    /// known coordinates' covariance, uncorrelated with everything.
+    fn enter_controls(&mut self, sighted: &[usize]) {
+        let dp = self.model.point_dim();
+        for &t in sighted {
+            let Some(target) = self.targets.get(t) else {
+                continue;
+            };
+            let (None, Some(sigma)) = (target.slot, target.given.control_sigma) else {
+                continue;
+            };
+            let o = self.grow(t);
+            for a in 0..dp {
+                self.cov[(o + a, o + a)] = sigma * sigma;
+            }
+        }
+    }
+
+    /// Free targets in `sighted` not in the joint state yet: measured from the
+    /// current station.
+    fn forward_new(&mut self, sighted: &[usize]) {
+        for &t in sighted {
+            let Some(target) = self.targets.get(t) else {
+                continue;
+            };
+            if target.slot.is_some() || target.given.control_sigma.is_some() {
+                continue;
+            }
+            let c = target.point.clone();
+            let o = self.grow(t);
+            self.forward(o, c);
+        }
+    }
+
+    /// Appends target `t` to the joint state with zero blocks; returns its offset.
+    fn grow(&mut self, t: usize) -> usize {
+        let dp = self.model.point_dim();
+        let old = self.cov.nrows();
+        self.cov = self.cov.clone().resize(old + dp, old + dp, 0.0);
+        self.targets[t].slot = Some(self.order.len());
+        self.order.push(t);
+        old
+    }
+
+    /// Step 1 for the point at offset `o`: the point `c` measured from the
+    /// current station.
+    fn forward(&mut self, o: usize, c: DVector<f64>) {
         let m = &self.model;
         let (ds, dp) = (m.station_dim(), m.point_dim());
         let s = self.station.as_slice();
         let z = m.observe(s, c.as_slice());
         let r = m.noise(s, c.as_slice());
         let (fs, fz) = m.forward_jacobians(s, z.as_slice());
-        let o = self.child_offset(i);
         let total = self.cov.nrows();
         // Cross-covariance of the new point with everything: F_s · P[station, ·].
         let p_s = self.cov.rows(0, ds).into_owned();
@@ -208,26 +407,37 @@ impl Chain {
                 self.cov[(o + a, o + b)] = own[(a, b)];
             }
         }
-        self.points[i] = Some(c);
+    }
+
+    /// The points in the joint state after the station, with their offsets: the
+    /// children's, then the `targets` given (measured ones).
+    fn observed(&self, targets: &[usize]) -> Result<Vec<(usize, DVector<f64>)>, ChainError> {
+        let mut out = Vec::with_capacity(self.points.len() + targets.len());
+        for (i, p) in self.points.iter().enumerate() {
+            let c = p.as_ref().ok_or(ChainError::Singular)?;
+            out.push((self.child_offset(i), c.clone()));
+        }
+        for &t in targets {
+            let o = self.target_offset(t).ok_or(ChainError::Singular)?;
+            out.push((o, self.targets[t].point.clone()));
+        }
+        Ok(out)
     }
 
     /// Step 2: the parent at the new station `u` (nominal pose), estimated with
-    /// every child's point.
-    fn resect(&mut self, u: DVector<f64>) -> Result<(), ChainError> {
+    /// every child's point and the measured `targets` it sees.
+    fn resect(&mut self, u: DVector<f64>, targets: &[usize]) -> Result<(), ChainError> {
         let m = &self.model;
         let (ds, dp) = (m.station_dim(), m.point_dim());
-        let n = self.points.len();
-        let nc = n * dp;
+        let nc = self.cov.nrows() - ds;
         // The points' prior after the old station is dropped.
         let pc = self.cov.view((ds, ds), (nc, nc)).into_owned();
         let info_c = invert_spd(&pc).ok_or(ChainError::Singular)?;
         let mut info = DMatrix::zeros(ds + nc, ds + nc);
         info.view_mut((ds, ds), (nc, nc)).copy_from(&info_c);
-        for (i, p) in self.points.iter().enumerate() {
-            let c = p.as_ref().ok_or(ChainError::Singular)?;
+        for (o, c) in self.observed(targets)? {
             let (hs, hc) = m.jacobians(u.as_slice(), c.as_slice());
             let w = invert_spd(&m.noise(u.as_slice(), c.as_slice())).ok_or(ChainError::Singular)?;
-            let o = ds + i * dp;
             let ss = hs.transpose() * &w * &hs;
             let sc = hs.transpose() * &w * &hc;
             let cc = hc.transpose() * &w * &hc;
@@ -236,10 +446,42 @@ impl Chain {
             add(&mut info, o, 0, &sc.transpose());
             add(&mut info, o, o, &cc);
         }
+        let _ = dp;
         let cov = invert_spd(&info).ok_or(ChainError::Singular)?;
         self.cov = symmetrize(cov);
         self.station = u;
         self.prior_info = info_c;
+        Ok(())
+    }
+
+    /// The measured `targets` observed from the current station: the Kalman
+    /// update of the joint state, `P − P Hᵀ (H P Hᵀ + R)⁻¹ H P` (no inverse of
+    /// `P`, which is singular while the station is known exactly).
+    fn update_here(&mut self, targets: &[usize]) -> Result<(), ChainError> {
+        if targets.is_empty() {
+            return Ok(());
+        }
+        let m = &self.model;
+        let (ds, dp, k) = (m.station_dim(), m.point_dim(), m.obs_dim());
+        let total = self.cov.nrows();
+        let rows = k * targets.len();
+        let mut h = DMatrix::zeros(rows, total);
+        let mut r = DMatrix::zeros(rows, rows);
+        let s = self.station.clone();
+        for (j, &t) in targets.iter().enumerate() {
+            let o = self.target_offset(t).ok_or(ChainError::Singular)?;
+            let c = &self.targets[t].point;
+            let (hs, hc) = m.jacobians(s.as_slice(), c.as_slice());
+            h.view_mut((j * k, 0), (k, ds)).copy_from(&hs);
+            h.view_mut((j * k, o), (k, dp)).copy_from(&hc);
+            r.view_mut((j * k, j * k), (k, k))
+                .copy_from(&m.noise(s.as_slice(), c.as_slice()));
+        }
+        let ph = &self.cov * h.transpose();
+        let innovation = &h * &ph + r;
+        let inv = invert_spd(&innovation).ok_or(ChainError::Singular)?;
+        let cov = &self.cov - &ph * inv * ph.transpose();
+        self.cov = symmetrize(cov);
         Ok(())
     }
 }

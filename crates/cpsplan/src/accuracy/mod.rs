@@ -19,14 +19,20 @@
 
 mod batch;
 mod chain;
+mod geometry;
 mod instrument;
 mod model;
 mod monte_carlo;
+mod network;
 mod placement;
+mod script;
 
-pub use batch::{batch_station_covariance, CycleGeometry};
+pub use batch::{batch_covariances, batch_station_covariance};
 pub use chain::{Chain, ChainError, PoseCovariance};
+pub use geometry::{CycleGeometry, NetworkGeometry, TargetPoint};
 pub use instrument::{Instrument, ARCSEC};
 pub use model::Model;
 pub use monte_carlo::{monte_carlo, realisation, MonteCarlo};
+pub use network::{Fit, Measurement, Network, NetworkError, Unknown};
 pub use placement::Objective;
+pub use script::{Event, Role, Script, ScriptVar};

@@ -83,6 +83,16 @@ impl Model {
         }
     }
 
+    /// The state of a target at `p`, `z` metres over the floor in 3D mode (the
+    /// markers' height when `None`).
+    pub fn point_at(&self, p: Point, z: Option<f64>) -> DVector<f64> {
+        if self.three_d() {
+            DVector::from_vec(vec![p.x, p.y, z.unwrap_or(self.instrument.marker_height)])
+        } else {
+            DVector::from_vec(vec![p.x, p.y])
+        }
+    }
+
     /// The orientation `ω` of a station state.
     fn omega(&self, s: &[f64]) -> f64 {
         s[self.station_dim() - 1]
@@ -145,6 +155,17 @@ impl Model {
     /// The covariance of the observation from `s` to `c` (diagonal).
     pub fn noise(&self, s: &[f64], c: &[f64]) -> DMatrix<f64> {
         let z = self.observe(s, c);
+        let i = &self.instrument;
+        let sd = i.distance_sigma_at(z[0]);
+        let sa2 = i.angle_sigma * i.angle_sigma;
+        let mut r = DMatrix::from_diagonal_element(self.obs_dim(), self.obs_dim(), sa2);
+        r[(0, 0)] = sd * sd;
+        r
+    }
+
+    /// The covariance of a measurement that read `z` (diagonal; the distance's
+    /// σ at the distance read, as survey software weights it).
+    pub fn noise_of(&self, z: &[f64]) -> DMatrix<f64> {
         let i = &self.instrument;
         let sd = i.distance_sigma_at(z[0]);
         let sa2 = i.angle_sigma * i.angle_sigma;

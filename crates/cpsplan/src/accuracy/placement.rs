@@ -51,6 +51,20 @@ impl Objective {
     /// children `stayers` keeping their points (each measured already) and the
     /// others moving. `None` when a stayer has no point yet.
     pub fn new(chain: &Chain, to: Point, stayers: &[usize]) -> Option<Objective> {
+        Self::with_targets(chain, to, stayers, &[])
+    }
+
+    /// [`Self::new`] for a next station that also measures the `targets` (indices
+    /// into the chain's targets; those not measured yet add nothing: a free
+    /// target's first measurement fixes only its own point, and a control point
+    /// not yet in the state is left out, a small underestimate of the
+    /// information).
+    pub fn with_targets(
+        chain: &Chain,
+        to: Point,
+        stayers: &[usize],
+        targets: &[usize],
+    ) -> Option<Objective> {
         let mut inst: Instrument = chain.model().instrument;
         inst.three_d = false;
         let model = Model::new(inst);
@@ -61,10 +75,20 @@ impl Objective {
         let full = chain.covariance();
         // The planar prior of (p, stayers): station x, y, ω and each stayer's x, y.
         let mut index = vec![0, 1, ds - 1];
+        // Every point the next station measures besides the movers: the
+        // stayers', then the measured targets'.
+        let mut fixed: Vec<Point> = Vec::with_capacity(stayers.len() + targets.len());
         for &s in stayers {
-            points.get(s).copied().flatten()?;
+            fixed.push(points.get(s).copied().flatten()?);
             let o = ds + s * dp;
             index.extend([o, o + 1]);
+        }
+        let positions: Vec<Point> = chain.targets().map(|t| t.position).collect();
+        for &t in targets {
+            if let Some(o) = chain.target_offset(t) {
+                fixed.push(positions[t]);
+                index.extend([o, o + 1]);
+            }
         }
         let dr = index.len();
         let prior = DMatrix::from_fn(dr, dr, |i, j| full[(index[i], index[j])]);
@@ -72,8 +96,7 @@ impl Objective {
         // The stayers' information on (u', r').
         let u = [to.x, to.y, 0.0];
         let mut s = DMatrix::zeros(3 + dr, 3 + dr);
-        for (k, &st) in stayers.iter().enumerate() {
-            let c = points[st]?;
+        for (k, &c) in fixed.iter().enumerate() {
             let (hu, hc) = model.jacobians(&u, &[c.x, c.y]);
             let w = model.noise(&u, &[c.x, c.y]).try_inverse()?;
             let mut row = DMatrix::zeros(2, 3 + dr);

@@ -160,7 +160,7 @@ pub fn known_map_bound(
     params: BoundParams,
 ) -> Result<KnownMapBound, BoundError> {
     // The children play no part in the bound: their link range is not checked.
-    let mut checked = *config;
+    let mut checked = config.clone();
     checked.children.count = 0;
     checked.validate()?;
     let g = *truth.geometry();

@@ -194,6 +194,11 @@ pub(crate) mod tests {
                 max: 20.0,
                 clearance: 0.05,
             },
+            targets: LinkRule {
+                min: 1.3,
+                max: 3000.0,
+                clearance: 0.05,
+            },
             eq2: Eq2 {
                 alpha_c: 1.0,
                 beta_c: 1.0,

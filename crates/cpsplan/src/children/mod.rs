@@ -29,7 +29,7 @@ pub use and_region::{and_region, AndRegion, ChildReach};
 pub use clearance::clearances;
 pub use cycle::{place_cycle, CpsCycle, CycleChild, CycleError};
 pub use maps::StepMaps;
-pub use params::CycleParams;
+pub use params::{target_rule, CycleParams};
 pub use placement::{place_children, Eq2, Placement, Spot, EPS_D, EPS_THETA};
 pub use spacing::apart;
 pub use strategy::{place_min_error, place_random, SEARCH_GAP};

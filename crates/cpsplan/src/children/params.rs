@@ -5,6 +5,19 @@ use super::placement::Eq2;
 use crate::config::{ChildStrategy, Config};
 use crate::sensing::LinkRule;
 
+/// The rule by which a station measures targets and control points: the
+/// instrument's own range limits (not the children's link range: a total station
+/// measures a prism far beyond the scanner's range) and the links'
+/// line-of-sight clearance.
+pub fn target_rule(config: &Config) -> LinkRule {
+    let (min, max) = config.instrument.range_m();
+    LinkRule {
+        min,
+        max,
+        clearance: config.children.sight_clearance,
+    }
+}
+
 /// Parameters of a cycle.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct CycleParams {
@@ -15,6 +28,9 @@ pub struct CycleParams {
     pub marker_radius: f64,
     /// The instrument's range limits for parent–child links.
     pub link: LinkRule,
+    /// The instrument's range limits for measuring targets and control points
+    /// (its own range; the line-of-sight clearance of the links).
+    pub targets: LinkRule,
     /// Eq. (2) weights and targets (already set for the strategy: `angle` and
     /// `distance` divide the other weight by 100).
     pub eq2: Eq2,
@@ -40,6 +56,7 @@ impl CycleParams {
                 max,
                 clearance: c.sight_clearance,
             },
+            targets: target_rule(config),
             eq2: Eq2 {
                 alpha_c: c.alpha_c
                     * if c.strategy == ChildStrategy::Distance {

@@ -198,6 +198,7 @@ pub fn place_min_error(
         .collect();
     let lambda = travel_weight * 1e-3;
     let to = g.cell_center(cycle.parent_to);
+    let sighted = chain.in_sight(maps.knowledge(), cycle.parent_to, &maps.params().targets);
     let mut best: Option<(f64, Vec<usize>, Vec<Cell>, f64)> = None;
     for mask in 0..(1usize << may_stay.len()) {
         let stayers: Vec<usize> = may_stay
@@ -213,7 +214,7 @@ pub fn place_min_error(
         if hidden {
             continue;
         }
-        let Some(objective) = Objective::new(chain, to, &stayers) else {
+        let Some(objective) = Objective::with_targets(chain, to, &stayers, &sighted) else {
             continue;
         };
         let movers: Vec<usize> = (0..n).filter(|i| !stayers.contains(i)).collect();

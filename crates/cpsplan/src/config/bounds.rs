@@ -322,6 +322,8 @@ pub const BOUNDS: &[Bound] = &[
         mission.stop_window
     ),
     real!("mission.stop_share", 0.0, 1.0, "", mission.stop_share),
+    optional!("mission.max_sigma_m", 1e-6, 1e6, "m", mission.max_sigma_m),
+    count!("targets.max", 0.0, 200.0, "targets", targets.max),
     count!(
         "limits.max_grid_cells",
         1.0,
@@ -373,6 +375,14 @@ pub enum ConfigError {
         /// Its value.
         other_value: f64,
     },
+    /// A target or control point that cannot be used.
+    #[error("{what}")]
+    Target {
+        /// `targets`.
+        key: &'static str,
+        /// The problem, naming the point.
+        what: String,
+    },
     /// A grid larger than the limits, or placed too far from the world origin.
     #[error("{what}")]
     Grid {
@@ -390,7 +400,8 @@ impl ConfigError {
         match self {
             ConfigError::OutOfRange { key, .. }
             | ConfigError::Conflict { key, .. }
-            | ConfigError::Grid { key, .. } => key,
+            | ConfigError::Grid { key, .. }
+            | ConfigError::Target { key, .. } => key,
         }
     }
 }
@@ -508,7 +519,7 @@ impl Config {
         if self.children.count > 0 {
             self.check_link_range()?;
         }
-        Ok(())
+        self.targets.check()
     }
 
     /// With children: the shortest link must be shorter than the longest.

@@ -3,6 +3,9 @@
 //! one, and documented choices (docs/DESIGN-CHOICES.md) where it is silent.
 
 mod bounds;
+mod targets;
+
+pub use self::targets::{TargetKind, TargetPlacement, TargetSpec, TargetsConfig, MAX_TARGETS};
 
 pub use self::bounds::{
     approx, number, Bound, ConfigError, BOUNDS, MAX_COORDINATE_M, MAX_GRID_SIDE, MAX_WALL_SAMPLES,
@@ -482,6 +485,11 @@ pub struct MissionConfig {
     pub stop_window: usize,
     /// See `stop_window`.
     pub stop_share: f64,
+    /// The tolerance of every scan station (beyond the paper): no station may
+    /// scan with a predicted filtering σ above this many metres; the planner
+    /// closes the network first (`None`: no tolerance).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub max_sigma_m: Option<f64>,
 }
 
 impl Default for MissionConfig {
@@ -490,6 +498,7 @@ impl Default for MissionConfig {
             max_scans: 1000,
             stop_window: 0,
             stop_share: 0.002,
+            max_sigma_m: None,
         }
     }
 }
@@ -521,7 +530,7 @@ impl Default for LimitsConfig {
 }
 
 /// All parameters of a run; printed into every run record.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct Config {
     /// Planning grid resolution in metres (paper: 0.1 m); maps are resampled to it.
@@ -548,6 +557,9 @@ pub struct Config {
     pub time: TimeConfig,
     /// Size limits.
     pub limits: LimitsConfig,
+    /// Targets and control points (absent from records when there are none).
+    #[serde(skip_serializing_if = "TargetsConfig::is_unset")]
+    pub targets: TargetsConfig,
 }
 
 impl Default for Config {
@@ -565,6 +577,7 @@ impl Default for Config {
             model: ModelConfig::default(),
             time: TimeConfig::default(),
             limits: LimitsConfig::default(),
+            targets: TargetsConfig::default(),
         }
     }
 }

@@ -5,11 +5,16 @@
 use serde::{Deserialize, Serialize};
 
 use super::record::{CycleRecord, MoveRecord};
+use super::targets::{TargetOrigin, TargetRecord};
 use crate::accuracy::{
-    monte_carlo, realisation, Chain, CycleGeometry, Instrument, Model, PoseCovariance, ARCSEC,
+    monte_carlo, realisation, Chain, CycleGeometry, Instrument, Model, Network, NetworkGeometry,
+    PoseCovariance, Script, TargetPoint, ARCSEC,
 };
-use crate::config::Config;
-use crate::geom::Point;
+use crate::children::target_rule;
+use crate::config::{Config, TargetKind};
+use crate::geom::{Cell, Point};
+use crate::grid::OccupancyGrid;
+use crate::sensing::LinkRule;
 
 /// The predicted accuracy of one parent pose (first order, 1σ).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -20,6 +25,13 @@ pub struct PoseAccuracy {
     pub covariance_m2: [[f64; 2]; 2],
     /// 1σ of the heading of the instrument's horizontal circle, arc seconds.
     pub heading_sigma_arcsec: f64,
+}
+
+impl PoseAccuracy {
+    /// A pose known exactly (the first station).
+    pub fn exact() -> Self {
+        PoseCovariance::default().into()
+    }
 }
 
 impl From<PoseCovariance> for PoseAccuracy {
@@ -65,29 +77,86 @@ impl PoseEstimate {
     }
 }
 
-/// The CPS chain of a mission, with the geometry of every cycle run so far (for
-/// the Monte Carlo check). `None` inside when the team cannot fix the parent's
+/// The CPS chain of a mission and its network: the filtering chain the planners
+/// ask, the geometry of every cycle run so far (for the Monte Carlo check), the
+/// whole network adjusted as it grows (for the smoothed figures), and the
+/// targets with their records. No chain when the team cannot fix the parent's
 /// pose (fewer than two children).
 #[derive(Debug, Clone)]
 pub struct Tracker {
     chain: Option<Chain>,
-    start: Point,
-    cycles: Vec<CycleGeometry>,
+    geometry: NetworkGeometry,
+    network: Option<Network>,
     /// Index of the last cycle of each executed move, in order.
     move_ends: Vec<usize>,
+    rule: LinkRule,
+    targets: Vec<TargetRecord>,
+    closures: usize,
 }
 
 impl Tracker {
     /// The chain of a team of `config.children.count` children, the parent's
-    /// pose at `start` known exactly.
+    /// pose at `start` known exactly, with the configuration's targets and
+    /// control points.
     pub fn new(config: &Config, start: Point) -> Self {
         let model = Model::new(Instrument::from_config(&config.instrument));
         let n = config.children.count;
+        let given: Vec<TargetPoint> = config
+            .targets
+            .points
+            .iter()
+            .map(|p| TargetPoint {
+                position: Point::new(p.x, p.y),
+                z: p.z,
+                control_sigma: match p.kind {
+                    TargetKind::Control => p.sigma_mm.map(|s| s * 1e-3),
+                    TargetKind::Free => None,
+                },
+            })
+            .collect();
+        let chain = (n >= 2).then(|| {
+            let mut c = Chain::new(model, start, n);
+            for &t in &given {
+                c.add_target(t);
+            }
+            c
+        });
+        let network = chain
+            .is_some()
+            .then(|| Network::new(Script::new(model, start, n, &given)));
+        let targets = config
+            .targets
+            .points
+            .iter()
+            .enumerate()
+            .map(|(i, p)| TargetRecord {
+                name: config.targets.name_of(i),
+                origin: match p.kind {
+                    TargetKind::Control => TargetOrigin::Control,
+                    TargetKind::Free => TargetOrigin::Free,
+                },
+                position: Point::new(p.x, p.y),
+                sigma_mm: p.sigma_mm.filter(|_| p.kind == TargetKind::Control),
+                placed_at_scan: None,
+                placed_by_child: None,
+                reason: None,
+                first_measured_scan: None,
+                measurements: 0,
+                smoothed_sigma_m: None,
+            })
+            .collect();
         Self {
-            chain: (n >= 2).then(|| Chain::new(model, start, n)),
-            start,
-            cycles: Vec::new(),
+            chain,
+            geometry: NetworkGeometry {
+                start,
+                targets: given,
+                ..NetworkGeometry::default()
+            },
+            network,
             move_ends: Vec::new(),
+            rule: target_rule(config),
+            targets,
+            closures: 0,
         }
     }
 
@@ -101,67 +170,221 @@ impl Tracker {
         self.chain.as_ref().map(|c| c.pose().into())
     }
 
-    /// Writes into `movement` the predicted σ after each of its cycles, carrying
-    /// the chain along them when `execute` (a move planned at the scan limit is
-    /// only recorded). A geometry the chain cannot handle ends the prediction.
-    pub fn follow(&mut self, movement: &mut MoveRecord, execute: bool) {
+    /// The targets and control points so far, given and placed.
+    pub fn targets(&self) -> &[TargetRecord] {
+        &self.targets
+    }
+
+    /// The stations so far that measured a control point, or a target first
+    /// measured at least two scans before: the network's closures.
+    pub fn closures(&self) -> usize {
+        self.closures
+    }
+
+    /// The rule by which stations measure targets.
+    pub fn rule(&self) -> &LinkRule {
+        &self.rule
+    }
+
+    /// The first station (scan 1 at `at`) measures the targets in sight on
+    /// `knowledge`; returns them.
+    pub fn sight_start(&mut self, knowledge: &OccupancyGrid, at: Cell) -> Vec<usize> {
+        let Some(chain) = self.chain.as_mut() else {
+            return Vec::new();
+        };
+        let sighted = chain.in_sight(knowledge, at, &self.rule);
+        if sighted.is_empty() {
+            return sighted;
+        }
+        if chain.sight_here(&sighted).is_err() {
+            self.chain = None;
+            return Vec::new();
+        }
+        self.geometry.at_start = sighted.clone();
+        if let Some(n) = self.network.as_mut() {
+            n.script_mut().sight_here(&sighted);
+            if n.extend_nominal().is_err() {
+                self.network = None;
+            }
+        }
+        self.note_measured(&sighted, 1);
+        sighted
+    }
+
+    fn note_measured(&mut self, sighted: &[usize], scan: usize) -> bool {
+        let mut closes = false;
+        for &t in sighted {
+            let Some(r) = self.targets.get_mut(t) else {
+                continue;
+            };
+            r.measurements += 1;
+            match r.first_measured_scan {
+                None => r.first_measured_scan = Some(scan),
+                Some(first) if first + 2 <= scan => closes = true,
+                Some(_) => {}
+            }
+            if r.origin == TargetOrigin::Control {
+                closes = true;
+            }
+        }
+        closes
+    }
+
+    /// Registers the targets the move's children leave (`left_targets` of its
+    /// cycles, indices assigned here), writes into `movement` the targets each
+    /// station measures and the predicted σ after each cycle, and carries the
+    /// chain and the network along it when `execute` (a move planned at the scan
+    /// limit is only recorded). `scan` is the scan the move starts from. A
+    /// geometry the chain cannot handle ends the prediction.
+    pub fn follow(
+        &mut self,
+        knowledge: &OccupancyGrid,
+        movement: &mut MoveRecord,
+        execute: bool,
+        scan: usize,
+    ) {
         let Some(chain) = self.chain.as_ref() else {
             return;
         };
         let mut next = chain.clone();
+        let mut records = self.targets.clone();
         let mut ok = true;
         let mut geometry = Vec::with_capacity(movement.cycles.len());
+        let g = knowledge.geometry();
         for cycle in &mut movement.cycles {
-            let g = geometry_of(cycle);
-            match next.cycle(g.to, &g.children, &g.moved) {
+            let mut here = Vec::new();
+            for left in &mut cycle.left_targets {
+                left.target = next.add_target(TargetPoint::free(left.position));
+                let ordinal = records
+                    .iter()
+                    .filter(|r| r.origin == TargetOrigin::Placed)
+                    .count()
+                    + 1;
+                records.push(TargetRecord::placed(left, ordinal, scan));
+                here.push(left.target);
+            }
+            if next.sight_here(&here).is_err() {
+                ok = false;
+                break;
+            }
+            let mut c = geometry_of(cycle);
+            c.here = here;
+            if let Some(to) = g.world_to_cell(cycle.parent_to) {
+                c.sighted = next.in_sight(knowledge, to, &self.rule);
+            }
+            match next.cycle_sighting(c.to, &c.children, &c.moved, &c.sighted) {
                 Ok(p) => cycle.position_sigma_m = Some(p.position_sigma()),
                 Err(_) => {
                     ok = false;
                     break;
                 }
             }
-            geometry.push(g);
+            cycle.targets = c.sighted.clone();
+            geometry.push(c);
         }
         if !execute {
             return;
         }
         if !ok {
             self.chain = None;
+            self.network = None;
             return;
         }
+        self.targets = records;
+        for c in &geometry {
+            let placed = c.here.clone();
+            self.note_measured(&placed, scan);
+            if self.note_measured(&c.sighted, scan + 1) {
+                self.closures += 1;
+            }
+        }
+        if let Some(n) = self.network.as_mut() {
+            for c in &geometry {
+                for &t in &c.here {
+                    while n.script().target_count() <= t {
+                        let p = self.targets[n.script().target_count()].position;
+                        n.script_mut().add_target(TargetPoint::free(p));
+                    }
+                }
+                n.script_mut().cycle(c);
+            }
+            if n.extend_nominal().is_err() {
+                self.network = None;
+            }
+        }
         if !geometry.is_empty() {
-            self.cycles.extend(geometry);
-            self.move_ends.push(self.cycles.len() - 1);
+            for c in &geometry {
+                for &t in &c.here {
+                    while self.geometry.targets.len() <= t {
+                        let p = self.targets[self.geometry.targets.len()].position;
+                        self.geometry.targets.push(TargetPoint::free(p));
+                    }
+                }
+            }
+            self.geometry.cycles.extend(geometry);
+            self.move_ends.push(self.geometry.cycles.len() - 1);
         }
         self.chain = Some(next);
     }
 
-    /// The pose error `[x, y, z, ω]` at every scan after the first (one per
-    /// executed move) in the first Monte Carlo run seeded by `seed`; `None`
-    /// without a chain.
-    pub fn realisation(&self, seed: u64) -> Option<Vec<[f64; 4]>> {
+    /// The smoothed accuracy of every scan after the first (one per executed
+    /// move), every measurement of the episode at once; records each target's
+    /// smoothed σ. `None` without a network or when it cannot be solved.
+    pub fn smooth(&mut self) -> Option<Vec<PoseAccuracy>> {
+        let net = self.network.as_ref()?;
+        let cov = net.smooth().ok()?;
+        let model = net.model();
+        let script = net.script();
+        for (t, r) in self.targets.iter_mut().enumerate() {
+            r.smoothed_sigma_m = script
+                .target_var(t)
+                .and_then(|v| cov[v].as_ref())
+                .map(|c| (c[(0, 0)] + c[(1, 1)]).max(0.0).sqrt());
+        }
+        let stations = script.stations();
+        self.move_ends
+            .iter()
+            .map(|&c| {
+                let m = cov.get(*stations.get(c + 1)?)?.as_ref()?;
+                Some(PoseCovariance::from_matrix(&model, m).into())
+            })
+            .collect()
+    }
+
+    /// The pose errors `[x, y, z, ω]` at every scan after the first (one per
+    /// executed move) in the first Monte Carlo run seeded by `seed`: filtering,
+    /// and smoothed; `None` without a chain.
+    #[allow(clippy::type_complexity)]
+    pub fn realisation(&self, seed: u64) -> Option<(Vec<[f64; 4]>, Option<Vec<[f64; 4]>>)> {
         let chain = self.chain.as_ref()?;
-        let errors = realisation(chain.model(), self.start, &self.cycles, seed, 0).ok()?;
-        Some(self.move_ends.iter().map(|&c| errors[c]).collect())
+        let r = realisation(chain.model(), &self.geometry, seed, 0, true).ok()?;
+        let pick =
+            |e: &[[f64; 4]]| -> Vec<[f64; 4]> { self.move_ends.iter().map(|&c| e[c]).collect() };
+        Some((pick(&r.filtering), r.smoothed.as_deref().map(pick)))
     }
 
     /// The Monte Carlo mean radial error at every scan after the first (one per
-    /// executed move), with `runs` runs seeded by `seed`; `None` without a chain.
-    pub fn monte_carlo(&self, runs: usize, seed: u64) -> Option<Vec<f64>> {
+    /// executed move), filtering and smoothed, with `runs` runs seeded by `seed`;
+    /// `None` without a chain.
+    pub fn monte_carlo(&self, runs: usize, seed: u64) -> Option<(Vec<f64>, Option<Vec<f64>>)> {
         let chain = self.chain.as_ref()?;
         if runs == 0 {
             return None;
         }
-        let mc = monte_carlo(chain.model(), self.start, &self.cycles, runs, seed).ok()?;
-        Some(self.move_ends.iter().map(|&c| mc.mean_error[c]).collect())
+        let mc = monte_carlo(chain.model(), &self.geometry, runs, seed, true).ok()?;
+        let pick = |e: &[f64]| -> Vec<f64> { self.move_ends.iter().map(|&c| e[c]).collect() };
+        Some((
+            pick(&mc.mean_error),
+            mc.smoothed_mean_error.as_deref().map(pick),
+        ))
     }
 }
 
-/// The chain's view of a recorded cycle.
+/// The chain's view of a recorded cycle (without targets).
 fn geometry_of(cycle: &CycleRecord) -> CycleGeometry {
-    CycleGeometry {
-        to: cycle.parent_to,
-        children: cycle.children.iter().map(|c| c.to).collect(),
-        moved: cycle.children.iter().map(|c| !c.stays).collect(),
-    }
+    CycleGeometry::plain(
+        cycle.parent_to,
+        cycle.children.iter().map(|c| c.to).collect(),
+        cycle.children.iter().map(|c| !c.stays).collect(),
+    )
 }

@@ -58,6 +58,11 @@ impl Clock {
         self.seconds[2] += travel_m / self.model.speed_m_s;
     }
 
+    /// `count` measurements to targets or control points.
+    pub fn measured(&mut self, count: usize) {
+        self.seconds[1] += count as f64 * self.model.measure_s;
+    }
+
     /// The time so far.
     pub fn time(&self) -> CampaignTime {
         let h = |s: f64| s / 3600.0;

@@ -7,10 +7,11 @@ use rand_chacha::ChaCha8Rng;
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
-use super::accuracy::{PoseEstimate, Tracker};
+use super::accuracy::{PoseAccuracy, PoseEstimate, Tracker};
 use super::calibration::GainCalibration;
 use super::clock::{CampaignTime, Clock};
 use super::record::MoveRecord;
+use super::targets::{TargetOrigin, TargetRecord};
 use super::team;
 use crate::config::{number, Config, ConfigError, Planner};
 use crate::geom::{Cell, Point};
@@ -185,9 +186,31 @@ pub struct Step {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub monte_carlo_error_m: Option<f64>,
     /// With a Monte Carlo check: the pose the CPS estimated for this scan in the
-    /// first run (the pose its points are registered in, [`crate::model`]).
+    /// first run, when it scanned (the filtering estimate).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub estimate: Option<PoseEstimate>,
+    /// Predicted radial 1σ of the scan position given every measurement of the
+    /// episode (the whole network adjusted at once: the *smoothed* σ), metres.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub smoothed_sigma_m: Option<f64>,
+    /// The smoothed covariance of the scan position, m².
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub smoothed_covariance_m2: Option<[[f64; 2]; 2]>,
+    /// The smoothed 1σ of the heading, arc seconds.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub smoothed_heading_sigma_arcsec: Option<f64>,
+    /// With a Monte Carlo check: the mean radial error of the smoothed position
+    /// over the runs, metres.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub smoothed_monte_carlo_error_m: Option<f64>,
+    /// With a Monte Carlo check: the smoothed pose of this scan in the first run
+    /// (the pose its points are registered in, [`crate::model`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub smoothed_estimate: Option<PoseEstimate>,
+    /// Targets and control points this scan station measured (indices into the
+    /// episode's `targets`).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub targets: Vec<usize>,
     /// The move that followed: CPS cycles to the target (empty without children or
     /// when the mission stopped here).
     #[serde(rename = "move")]
@@ -195,6 +218,15 @@ pub struct Step {
 }
 
 impl Step {
+    /// The filtering accuracy of the scan position, as recorded.
+    pub fn accuracy(&self) -> Option<PoseAccuracy> {
+        Some(PoseAccuracy {
+            position_sigma_m: self.position_sigma_m?,
+            covariance_m2: self.covariance_m2?,
+            heading_sigma_arcsec: self.heading_sigma_arcsec?,
+        })
+    }
+
     /// The path the parent drove after this step, world frame
     /// ([`parent_path`]).
     pub fn driven_path(&self) -> Vec<Point> {
@@ -267,6 +299,33 @@ pub struct Summary {
     /// The planner that chose the scan positions.
     #[serde(default)]
     pub planner: Planner,
+    /// The largest predicted filtering σ of any scan position, metres.
+    #[serde(default)]
+    pub worst_position_sigma_m: Option<f64>,
+    /// The largest smoothed σ of any scan position, metres.
+    #[serde(default)]
+    pub worst_smoothed_sigma_m: Option<f64>,
+    /// The smoothed σ of the last scan position, metres (equal to its
+    /// filtering σ: nothing after it refines it).
+    #[serde(default)]
+    pub final_smoothed_sigma_m: Option<f64>,
+    /// With a Monte Carlo check: the mean radial error of the last scan
+    /// position's smoothed estimate, metres.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub monte_carlo_smoothed_mean_error_m: Option<f64>,
+    /// Targets the team left.
+    #[serde(default)]
+    pub targets_placed: usize,
+    /// Stations that measured a control point or a target first measured at
+    /// least two scans before (the network's closures).
+    #[serde(default)]
+    pub closures: usize,
+    /// Moves that made a closure first to keep the tolerance.
+    #[serde(default)]
+    pub closure_moves: usize,
+    /// The scans whose predicted filtering σ was above `mission.max_sigma_m`.
+    #[serde(default)]
+    pub sigma_violations: Vec<usize>,
 }
 
 /// A whole simulated episode.
@@ -280,6 +339,9 @@ pub struct Episode {
     pub steps: Vec<Step>,
     /// Totals.
     pub summary: Summary,
+    /// The targets and control points, given and placed (absent when none).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub targets: Vec<TargetRecord>,
     /// The final knowledge map.
     #[serde(skip)]
     pub knowledge: Option<OccupancyGrid>,
@@ -399,11 +461,26 @@ pub fn run_episode_with(
         if steps.is_empty() && config.children.count > 0 {
             children = team::initial_children(&knowledge, here, config);
         }
+        // The targets this station measures: at the start those in sight now,
+        // later those the move's last cycle measured on arrival.
+        let sighted_here = match steps.last() {
+            None => {
+                let s = chain.sight_start(&knowledge, here);
+                clock.measured(s.len());
+                s
+            }
+            Some(last) => last
+                .movement
+                .cycles
+                .last()
+                .map(|c| c.targets.clone())
+                .unwrap_or_default(),
+        };
         let gain_m2 = outcome.new_free as f64 * cell_m2;
         if let Some((e, _)) = expected {
             calibration.record(e, gain_m2);
         }
-        let mut round = *config;
+        let mut round = config.clone();
         round.parent.gain_scale *= calibration.factor();
         let kept = Kept {
             near: &near,
@@ -460,7 +537,7 @@ pub fn run_episode_with(
         let accuracy = chain.current();
         let (mut movement, moved) = (movement, moved);
         let executes = !at_limit && !diminishing && moved.is_some();
-        chain.follow(&mut movement, executes);
+        chain.follow(&knowledge, &mut movement, executes, steps.len() + 1);
         let step = Step {
             scan: steps.len() + 1,
             position: g.cell_center(here),
@@ -480,6 +557,12 @@ pub fn run_episode_with(
             heading_sigma_arcsec: accuracy.map(|a| a.heading_sigma_arcsec),
             monte_carlo_error_m: None,
             estimate: None,
+            smoothed_sigma_m: None,
+            smoothed_covariance_m2: None,
+            smoothed_heading_sigma_arcsec: None,
+            smoothed_monte_carlo_error_m: None,
+            smoothed_estimate: None,
+            targets: sighted_here,
             plan,
             movement,
         };
@@ -507,6 +590,13 @@ pub fn run_episode_with(
                     cycles,
                     moved.parent_length + moved.child_lengths.iter().sum::<f64>(),
                 );
+                clock.measured(last.map_or(0, |s| {
+                    s.movement
+                        .cycles
+                        .iter()
+                        .map(|c| c.targets.len() + c.left_targets.len())
+                        .sum()
+                }));
                 here = moved.parent;
                 travel += moved.parent_length;
                 if !moved.children.is_empty() {
@@ -532,20 +622,62 @@ pub fn run_episode_with(
         stop_reason
     };
     let final_sigma = steps.last().and_then(|s| s.position_sigma_m);
+    if let Some(smoothed) = chain.smooth() {
+        let first = steps[0].position_sigma_m.map(|_| PoseAccuracy::exact());
+        for (step, a) in steps.iter_mut().zip(first.into_iter().chain(smoothed)) {
+            // Later measurements only add information: where the network finds
+            // a σ above the chain's filtering one, the two differ by the chain's
+            // rounding (docs/ACCURACY.md), and the filtering figures stand.
+            let a = match step.accuracy() {
+                Some(f) if a.position_sigma_m > f.position_sigma_m => f,
+                _ => a,
+            };
+            step.smoothed_sigma_m = Some(a.position_sigma_m);
+            step.smoothed_covariance_m2 = Some(a.covariance_m2);
+            step.smoothed_heading_sigma_arcsec = Some(a.heading_sigma_arcsec);
+        }
+    }
     let runs = config.accuracy.monte_carlo_runs;
     let mc = chain.monte_carlo(runs, config.seed);
-    if let Some(errors) = &mc {
+    if let Some((errors, smoothed)) = &mc {
         steps[0].monte_carlo_error_m = Some(0.0);
         for (step, &e) in steps[1..].iter_mut().zip(errors) {
             step.monte_carlo_error_m = Some(e);
         }
+        if let Some(smoothed) = smoothed {
+            steps[0].smoothed_monte_carlo_error_m = Some(0.0);
+            for (step, &e) in steps[1..].iter_mut().zip(smoothed) {
+                step.smoothed_monte_carlo_error_m = Some(e);
+            }
+        }
     }
-    if let Some(errors) = mc.as_ref().and_then(|_| chain.realisation(config.seed)) {
+    if let Some((errors, smoothed)) = mc.as_ref().and_then(|_| chain.realisation(config.seed)) {
         steps[0].estimate = Some(PoseEstimate::new(steps[0].position, [0.0; 4]));
         for (step, e) in steps[1..].iter_mut().zip(errors) {
             step.estimate = Some(PoseEstimate::new(step.position, e));
         }
+        if let Some(smoothed) = smoothed {
+            steps[0].smoothed_estimate = steps[0].estimate;
+            for (step, e) in steps[1..].iter_mut().zip(smoothed) {
+                step.smoothed_estimate = Some(PoseEstimate::new(step.position, e));
+            }
+        }
     }
+    let worst = |f: fn(&Step) -> Option<f64>| {
+        steps
+            .iter()
+            .filter_map(f)
+            .fold(None, |m: Option<f64>, v| Some(m.map_or(v, |m| m.max(v))))
+    };
+    let sigma_violations: Vec<usize> = match config.mission.max_sigma_m {
+        Some(max) => steps
+            .iter()
+            .filter(|s| s.position_sigma_m.is_some_and(|v| v > max))
+            .map(|s| s.scan)
+            .collect(),
+        None => Vec::new(),
+    };
+    let targets = chain.targets().to_vec();
     let summary = Summary {
         scans: steps.len(),
         coverage: tracker.coverage(),
@@ -566,16 +698,34 @@ pub fn run_episode_with(
             .filter(|_| travel > 0.0)
             .map(|s| 100.0 * s / travel),
         monte_carlo_runs: if mc.is_some() { runs } else { 0 },
-        monte_carlo_mean_error_m: mc.as_ref().and_then(|e| e.last().copied()),
+        monte_carlo_mean_error_m: mc.as_ref().and_then(|e| e.0.last().copied()),
         campaign_time_h: clock.time().total_h(),
         campaign_time: clock.time(),
         planner: config.parent.planner,
+        worst_position_sigma_m: worst(|s| s.position_sigma_m),
+        worst_smoothed_sigma_m: worst(|s| s.smoothed_sigma_m),
+        final_smoothed_sigma_m: steps.last().and_then(|s| s.smoothed_sigma_m),
+        monte_carlo_smoothed_mean_error_m: mc
+            .as_ref()
+            .and_then(|e| e.1.as_ref())
+            .and_then(|e| e.last().copied()),
+        targets_placed: targets
+            .iter()
+            .filter(|t| t.origin == TargetOrigin::Placed)
+            .count(),
+        closures: chain.closures(),
+        closure_moves: steps
+            .iter()
+            .filter(|s| s.movement.closure.is_some())
+            .count(),
+        sigma_violations,
     };
     Ok(Episode {
-        config: *config,
+        config: config.clone(),
         start: g.cell_center(cell),
         steps,
         summary,
+        targets,
         knowledge: Some(knowledge),
     })
 }

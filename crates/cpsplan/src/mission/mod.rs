@@ -35,6 +35,7 @@ mod episode;
 mod memory;
 mod record;
 mod step;
+mod targets;
 mod team;
 
 pub use accuracy::{PoseAccuracy, PoseEstimate, Tracker};
@@ -46,7 +47,9 @@ pub use episode::{
 };
 pub use memory::MemoryEstimate;
 pub use record::{
-    cycle_and_regions, move_and_regions, ChildMove, CycleRecord, MoveRecord, RejectedTarget,
+    cycle_and_regions, move_and_regions, ChildMove, Closure, CycleRecord, LeftTarget, MoveRecord,
+    RejectedTarget,
 };
 pub use step::{plan_step, PlanError, StepPlan};
+pub use targets::{TargetOrigin, TargetRecord};
 pub use team::{execute_move, initial_children, plan_round, Groundwork, Moved, Team};

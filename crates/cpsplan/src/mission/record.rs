@@ -52,6 +52,27 @@ pub struct CycleRecord {
     /// left unproven (0: within 2 % of the optimum over the AND regions).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub search_gap: Option<f64>,
+    /// Targets and control points the parent measured from `parent_to`
+    /// (indices into the episode's `targets`), besides the children.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub targets: Vec<usize>,
+    /// Targets the children left where they stood before this cycle, measured
+    /// from `parent_from`.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub left_targets: Vec<LeftTarget>,
+}
+
+/// A target a child left where it stood.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct LeftTarget {
+    /// Its index in the episode's `targets`.
+    pub target: usize,
+    /// The child that left it.
+    pub child: usize,
+    /// Where, world frame.
+    pub position: Point,
+    /// Why the planner left it there.
+    pub reason: String,
 }
 
 impl CycleRecord {
@@ -93,6 +114,29 @@ pub struct MoveRecord {
     pub cycles: Vec<CycleRecord>,
     /// Candidates tried first and given up.
     pub rejected: Vec<RejectedTarget>,
+    /// With a tolerance (`mission.max_sigma_m`): the closure the move made
+    /// first to keep the next station within it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub closure: Option<Closure>,
+}
+
+/// A closure of the network made on the way to the next scan station, to keep
+/// its predicted σ within the tolerance (`mission.max_sigma_m`).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Closure {
+    /// The station the parent visited first to measure targets there (`None`:
+    /// the move was direct, with a target left behind).
+    pub via: Option<Point>,
+    /// The targets measured there.
+    pub targets: Vec<usize>,
+    /// The predicted σ of the next scan station without the closure, metres.
+    pub sigma_without_m: f64,
+    /// With it, metres.
+    pub sigma_m: f64,
+    /// The extra campaign time it cost, hours.
+    pub extra_h: f64,
+    /// What was done and why, in words.
+    pub reason: String,
 }
 
 /// The AND region of every child of a recorded cycle, recomputed on the knowledge

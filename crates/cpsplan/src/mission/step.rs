@@ -120,7 +120,7 @@ pub fn plan_step(
     children: &[Point],
     config: &Config,
 ) -> Result<StepPlan, PlanError> {
-    let mut config = *config;
+    let mut config = config.clone();
     config.children.count = children.len();
     config.validate()?;
     let g = *knowledge.geometry();
@@ -151,6 +151,7 @@ pub fn plan_step(
     let (mut plan, reach, groundwork) =
         team::plan_round(knowledge, here, &config, &mut rng, None, None);
     let mut tracker = Tracker::new(&config, g.cell_center(here));
+    tracker.sight_start(knowledge, here);
     let mut movement = match plan.decision {
         Decision::Target { index } if kids.is_empty() => MoveRecord {
             target: Some(index),
@@ -166,7 +167,7 @@ pub fn plan_step(
         }
         _ => MoveRecord::default(),
     };
-    tracker.follow(&mut movement, true);
+    tracker.follow(knowledge, &mut movement, true, 1);
     let predicted_position_sigma_m = movement.cycles.last().and_then(|c| c.position_sigma_m);
     Ok(StepPlan {
         plan,

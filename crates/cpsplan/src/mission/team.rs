@@ -319,7 +319,8 @@ fn error_growth(step: &TeamStep, chain: Option<&Chain>, m: &MovePlan) -> Option<
     for cycle in &m.cycles {
         let kids: Vec<_> = cycle.children.iter().map(|k| g.cell_center(k.to)).collect();
         let moved: Vec<bool> = cycle.children.iter().map(|k| !k.stays).collect();
-        c.cycle(g.cell_center(cycle.parent_to), &kids, &moved)
+        let rule = step.maps.params().targets;
+        c.cycle_on(step.maps.knowledge(), &rule, cycle.parent_to, &kids, &moved)
             .ok()?;
     }
     Some(c.pose().position_sigma() - before)
@@ -393,6 +394,8 @@ fn cycle_record(step: &TeamStep, cycle: &CpsCycle) -> (CycleRecord, f64) {
             children,
             position_sigma_m: None,
             search_gap: cycle.search_gap.filter(|g| g.is_finite()),
+            targets: Vec::new(),
+            left_targets: Vec::new(),
         },
         length,
     )

@@ -24,6 +24,6 @@ mod view;
 pub use gain::{Gain, GainEstimate, NearField};
 pub use scanner::{expected_gain, scan, seen_walls, ScanOutcome};
 pub use shadowcast::visible_cells;
-pub use sight::{sight_clear, LinkRule, SightField};
+pub use sight::{sight_clear, target_in_sight, LinkRule, SightField};
 pub use sight_sweep::certain_cells;
 pub use view::{certain_view, mutual_view, seen_by_both, View};

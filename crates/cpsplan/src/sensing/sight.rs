@@ -65,6 +65,36 @@ pub fn sight_clear(knowledge: &OccupancyGrid, a: Cell, b: Cell, clearance: f64) 
     })
 }
 
+/// Whether an instrument at the centre of `from` measures a target standing at
+/// `target`: the distance between them within `rule`'s range, and the line of
+/// sight between `from` and the target's cell clear under `rule` on `knowledge`
+/// (cells as full squares; the target's own cell does not block, since a target
+/// may stand on a pillar or a wall).
+pub fn target_in_sight(
+    knowledge: &OccupancyGrid,
+    from: Cell,
+    target: crate::geom::Point,
+    rule: &LinkRule,
+) -> bool {
+    let g = knowledge.geometry();
+    let d = g.cell_center(from).distance(target);
+    if !(d >= rule.min && d <= rule.max) {
+        return false;
+    }
+    let Some(cell) = g.world_to_cell(target) else {
+        return false;
+    };
+    if cell == from {
+        return false;
+    }
+    let k = knowledge.cells();
+    let own = g.index(cell);
+    if k[own] == CellState::Free {
+        return sight_clear(knowledge, from, cell, rule.clearance / g.resolution);
+    }
+    segment_clear(g, from, cell, |i| i == own || k[i] == CellState::Free)
+}
+
 /// A segment between two cell centres, in doubled cell coordinates (centres at
 /// odd integers, cell corners at even ones) so that every test is exact.
 #[derive(Debug, Clone, Copy)]

@@ -160,7 +160,8 @@ fn retrieve(
                 .map(|k| g.cell_center(k.to))
                 .collect();
             let moved: Vec<bool> = placed.children.iter().map(|k| !k.stays).collect();
-            if c.cycle(g.cell_center(placed.parent_to), &kids, &moved)
+            let rule = maps.params().targets;
+            if c.cycle_on(maps.knowledge(), &rule, placed.parent_to, &kids, &moved)
                 .is_err()
             {
                 *chain = None;
