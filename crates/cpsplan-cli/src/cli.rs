@@ -407,6 +407,19 @@ pub struct ExploreArgs {
                               defaults().model.vertical_step))]
     pub vertical_step: Option<f64>,
     /// Output directory.
+    /// Targets and control points set up before the campaign, as CSV (columns
+    /// name, x, y, kind = control|free, sigma_mm; replaces the config's
+    /// [[targets]]).
+    #[arg(long, value_name = "FILE.csv")]
+    pub targets: Option<PathBuf>,
+    /// The team carries N targets and leaves them where the planner judges
+    /// best (targets.place = "auto", targets.max = N).
+    #[arg(long, value_name = "N", allow_hyphen_values = true, value_parser = parse_count)]
+    pub place_targets: Option<usize>,
+    /// No station scans with a predicted 1σ above M metres: the planner closes
+    /// the network first (mission.max_sigma_m).
+    #[arg(long, value_name = "M", allow_hyphen_values = true, value_parser = parse_real)]
+    pub max_sigma: Option<f64>,
     #[arg(long, value_name = "DIR", default_value = "out")]
     pub out: PathBuf,
     /// Print nothing but errors and warnings.

@@ -88,20 +88,54 @@ pub struct ModelSummary {
     pub p95_distance_m: f64,
     /// Largest horizontal error of a pose a scan was registered in, metres.
     pub max_position_error_m: f64,
-    /// The poses the scans were registered in: `estimated` (one Monte Carlo
-    /// realisation of the CPS chain) or `true` (no Monte Carlo: range noise only).
+    /// The poses the scans were registered in: `smoothed` (one Monte Carlo
+    /// realisation of the CPS network, every station adjusted with every
+    /// measurement), `filtering` (the realisation's estimates when each scan was
+    /// taken, where no smoothed ones exist) or `true` (no Monte Carlo: range
+    /// noise only).
     pub poses: &'static str,
+    /// With smoothed poses: the same model registered in the filtering poses.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub filtering: Option<ModelFit>,
+}
+
+/// How close a registered model lies to the ground-truth walls.
+#[derive(Debug, Serialize)]
+pub struct ModelFit {
+    /// Mean distance of the points to the ground-truth walls, metres.
+    pub mean_distance_m: f64,
+    /// 95th percentile of that distance, metres.
+    pub p95_distance_m: f64,
+    /// Largest horizontal error of a pose a scan was registered in, metres.
+    pub max_position_error_m: f64,
 }
 
 impl ModelSummary {
-    /// The summary of `accuracy`; `estimated` when the episode carried estimates.
-    pub fn new(accuracy: &ModelAccuracy, estimated: bool) -> Self {
+    /// The summary of the model of `episode` with `accuracy` (registered in the
+    /// smoothed poses where the episode has them), and `filtering`, its accuracy
+    /// in the filtering poses.
+    pub fn new(
+        accuracy: &ModelAccuracy,
+        episode: &Episode,
+        filtering: Option<&ModelAccuracy>,
+    ) -> Self {
+        let smoothed = episode.steps.iter().any(|s| s.smoothed_estimate.is_some());
+        let estimated = episode.steps.iter().any(|s| s.estimate.is_some());
         Self {
             points: accuracy.points,
             mean_distance_m: accuracy.mean_distance_m,
             p95_distance_m: accuracy.p95_distance_m,
             max_position_error_m: accuracy.max_position_error_m,
-            poses: if estimated { "estimated" } else { "true" },
+            poses: match (smoothed, estimated) {
+                (true, _) => "smoothed",
+                (false, true) => "filtering",
+                (false, false) => "true",
+            },
+            filtering: filtering.filter(|_| smoothed).map(|f| ModelFit {
+                mean_distance_m: f.mean_distance_m,
+                p95_distance_m: f.p95_distance_m,
+                max_position_error_m: f.max_position_error_m,
+            }),
         }
     }
 }
@@ -472,6 +506,7 @@ pub fn write_episode_outputs(
     source: &MapSource,
     episode: &Episode,
     model: Option<&RegisteredModel>,
+    filtering: Option<&ModelAccuracy>,
     wall_ms: f64,
 ) -> Result<()> {
     std::fs::create_dir_all(dir)
@@ -486,12 +521,7 @@ pub fn write_episode_outputs(
         estimated_memory_mb: 0.0,
         start: episode.start,
         resolution: g.resolution,
-        model: model.map(|m| {
-            ModelSummary::new(
-                &m.accuracy,
-                episode.steps.iter().any(|s| s.estimate.is_some()),
-            )
-        }),
+        model: model.map(|m| ModelSummary::new(&m.accuracy, episode, filtering)),
         config: &episode.config,
     };
     let record = EpisodeRecord {

@@ -4,15 +4,17 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use anyhow::{bail, Context, Result};
-use cpsplan::config::Scoring;
-use cpsplan::mission::{Summary, START_REGION_SHARE};
-use cpsplan::model::{build_model, ModelPoint, RegisteredModel};
+use cpsplan::config::{Scoring, TargetPlacement};
+use cpsplan::mission::{Summary, TargetOrigin, START_REGION_SHARE};
+use cpsplan::model::{build_model, build_model_in, ModelPoint, RegisteredModel, Registration};
 use cpsplan::{run_episode_with, Config, StopReason};
 use indicatif::{ProgressBar, ProgressStyle};
 
 use super::{check_memory, load_truth, read_config, validate};
 use crate::cli::{ExploreArgs, ScoringArg};
 use crate::formats::cloud::{encode_las, encode_ply, encode_stations_ply};
+use crate::formats::rosmap::ReadLimits;
+use crate::formats::targets::read_targets;
 use crate::render::{render_step, StepView};
 use crate::report::{write_atomic, write_episode_outputs, write_temp, ReportDir, TempFile};
 
@@ -72,6 +74,20 @@ pub fn build_config(args: &ExploreArgs) -> Result<Config> {
     if let Some(v) = args.vertical_step {
         config.model.vertical_step = v;
     }
+    if let Some(path) = &args.targets {
+        config.targets.points = read_targets(path, ReadLimits::default().max_text_bytes)?;
+    }
+    if let Some(n) = args.place_targets {
+        config.targets.place = if n > 0 {
+            TargetPlacement::Auto
+        } else {
+            TargetPlacement::None
+        };
+        config.targets.max = n;
+    }
+    if let Some(m) = args.max_sigma {
+        config.mission.max_sigma_m = Some(m);
+    }
     validate(
         &config,
         &[
@@ -96,6 +112,17 @@ pub fn build_config(args: &ExploreArgs) -> Result<Config> {
                 "model.vertical_step",
                 "--vertical-step",
                 args.vertical_step.is_some(),
+            ),
+            (
+                "targets.max",
+                "--place-targets",
+                args.place_targets.is_some(),
+            ),
+            ("targets", "--targets", args.targets.is_some()),
+            (
+                "mission.max_sigma_m",
+                "--max-sigma",
+                args.max_sigma.is_some(),
             ),
         ],
     )?;
@@ -164,6 +191,20 @@ pub fn run(args: &ExploreArgs) -> Result<()> {
         }
         Err(e) => bail!("--cloud-out: {e}"),
     };
+    // The model in the filtering poses too, for its accuracy, where the episode
+    // has smoothed ones.
+    let filtering = match &model {
+        Some(_) if episode.steps.iter().any(|s| s.smoothed_estimate.is_some()) => build_model_in(
+            &truth,
+            &episode,
+            &config,
+            Registration::Filtering,
+            |_, _| {},
+        )
+        .ok()
+        .map(|m| m.accuracy),
+        _ => None,
+    };
     // The cloud and its stations under temporary names until the report is in.
     let cloud = match (&args.cloud_out, cloud_format, &model) {
         (Some(path), Some(format), Some(model)) => {
@@ -178,6 +219,7 @@ pub fn run(args: &ExploreArgs) -> Result<()> {
         &source,
         &episode,
         model.as_ref(),
+        filtering.as_ref(),
         wall_ms,
     )?;
     for (scan, png) in &figures {
@@ -242,13 +284,44 @@ pub fn run(args: &ExploreArgs) -> Result<()> {
                 s.instrument
             );
         }
-        if let Some(a) = model.as_ref().map(|m| &m.accuracy) {
+        if let (Some(w), Some(ws)) = (s.worst_position_sigma_m, s.worst_smoothed_sigma_m) {
             println!(
-                "3D model: {} points, {:.1} mm mean and {:.1} mm 95th-percentile distance to the walls ({})",
+                "worst scan position: {:.1} mm when scanned, {:.1} mm after the whole network (smoothed)",
+                w * 1e3,
+                ws * 1e3
+            );
+        }
+        if !episode.targets.is_empty() {
+            let count = |o: TargetOrigin| episode.targets.iter().filter(|t| t.origin == o).count();
+            println!(
+                "targets: {} left by the team, {} given, {} control points; {} closures, {} closure move{}",
+                count(TargetOrigin::Placed),
+                count(TargetOrigin::Free),
+                count(TargetOrigin::Control),
+                s.closures,
+                s.closure_moves,
+                if s.closure_moves == 1 { "" } else { "s" }
+            );
+        }
+        if let Some(a) = model.as_ref().map(|m| &m.accuracy) {
+            let filtering = filtering
+                .as_ref()
+                .map(|f| {
+                    format!(
+                        "; in the poses known when each scan was taken: {:.1} mm and {:.1} mm",
+                        f.mean_distance_m * 1e3,
+                        f.p95_distance_m * 1e3
+                    )
+                })
+                .unwrap_or_default();
+            println!(
+                "3D model: {} points, {:.1} mm mean and {:.1} mm 95th-percentile distance to the walls ({}){filtering}",
                 a.points,
                 a.mean_distance_m * 1e3,
                 a.p95_distance_m * 1e3,
-                if episode.steps.iter().any(|s| s.estimate.is_some()) {
+                if episode.steps.iter().any(|s| s.smoothed_estimate.is_some()) {
+                    "registered in the smoothed poses of one noisy realisation"
+                } else if episode.steps.iter().any(|s| s.estimate.is_some()) {
                     "registered in the estimated poses"
                 } else if s.final_position_sigma_m.is_some() {
                     "true poses, range noise only; --monte-carlo N registers it in estimated ones"
@@ -269,10 +342,36 @@ pub fn run(args: &ExploreArgs) -> Result<()> {
     if let Some(w) = coverage_warning(&episode.summary) {
         eprintln!("warning: {w}");
     }
+    if let Some(w) = tolerance_warning(&episode) {
+        eprintln!("warning: {w}");
+    }
     if let Some(w) = model_warning {
         eprintln!("warning: {w}");
     }
     Ok(())
+}
+
+/// The warning for scans above the tolerance (`--max-sigma`): how many, which,
+/// and by how much.
+pub fn tolerance_warning(episode: &cpsplan::Episode) -> Option<String> {
+    let max = episode.config.mission.max_sigma_m?;
+    let v = &episode.summary.sigma_violations;
+    if v.is_empty() {
+        return None;
+    }
+    let worst = episode.summary.worst_position_sigma_m.unwrap_or(f64::NAN);
+    let list: Vec<String> = v.iter().take(20).map(|n| n.to_string()).collect();
+    let more = if v.len() > 20 { ", …" } else { "" };
+    Some(format!(
+        "{} scan{} above the tolerance of {:.1} mm (the worst {:.1} mm): scan{} {}{more}; \
+         no closure within reach kept them (summary.json: sigma_violations)",
+        v.len(),
+        if v.len() == 1 { "" } else { "s" },
+        max * 1e3,
+        worst * 1e3,
+        if v.len() == 1 { "" } else { "s" },
+        list.join(", ")
+    ))
 }
 
 /// The file formats of `--cloud-out`.

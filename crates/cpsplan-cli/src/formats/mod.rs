@@ -5,3 +5,4 @@ pub mod config;
 mod png_chunks;
 mod pnm;
 pub mod rosmap;
+pub mod targets;

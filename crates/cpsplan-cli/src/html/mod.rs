@@ -17,7 +17,7 @@ use std::io::Write as _;
 
 use anyhow::Result;
 use base64::Engine as _;
-use cpsplan::mission::{move_and_regions, Episode, Step};
+use cpsplan::mission::{move_and_regions, Episode, Step, TargetOrigin};
 use cpsplan::parent::Decision;
 use cpsplan::{CellState, Config, GridGeometry, OccupancyGrid, Point};
 use serde::Serialize;
@@ -145,8 +145,13 @@ struct PageStep {
     wall_coverage: f64,
     travel: f64,
     sigma_mm: Option<f64>,
+    /// The smoothed σ (every measurement of the episode), mm.
+    smoothed_mm: Option<f64>,
     /// Semi-axes (cells, 1σ) and the major axis's angle from the grid's x axis.
     ellipse: Option<[f64; 3]>,
+    /// Measurements to targets on the way to this scan and at it: (target,
+    /// station).
+    sights: Vec<(usize, [f64; 2])>,
     children: Vec<[f64; 2]>,
     /// The path driven after the scan.
     path: Vec<[f64; 2]>,
@@ -157,6 +162,19 @@ struct PageStep {
     cycles: usize,
     subgoals: bool,
     and: Vec<Region>,
+}
+
+/// A target or control point as the page reads it.
+#[derive(Debug, Serialize)]
+struct PageTarget {
+    pos: [f64; 2],
+    name: String,
+    /// `control`, `free` or `placed`.
+    kind: &'static str,
+    /// The first scan at which it stands (1 for given points).
+    from: usize,
+    /// Its smoothed σ at the end, mm.
+    sigma_mm: Option<f64>,
 }
 
 #[derive(Debug, Serialize)]
@@ -173,6 +191,7 @@ struct PageData {
     grid: PageGrid,
     cells: String,
     steps: Vec<PageStep>,
+    targets: Vec<PageTarget>,
     summary: Vec<(String, String)>,
     legend: Vec<(String, String)>,
     colours: PageColours,
@@ -186,6 +205,10 @@ struct PageColours {
     ellipse: String,
     /// Child 1 first, repeated for more children.
     children: Vec<String>,
+    target: String,
+    control: String,
+    sight: String,
+    smoothed: String,
 }
 
 /// Grid cell units of a world point.
@@ -249,6 +272,18 @@ pub fn episode_page(
                     }
                 }
             }
+            let mut sights: Vec<(usize, [f64; 2])> = Vec::new();
+            match k.checked_sub(1).and_then(|p| episode.steps.get(p)) {
+                None => sights.extend(s.targets.iter().map(|&t| (t, cell_units(g, s.position)))),
+                Some(before) => {
+                    for c in &before.movement.cycles {
+                        let from = cell_units(g, c.parent_from);
+                        sights.extend(c.left_targets.iter().map(|l| (l.target, from)));
+                        let to = cell_units(g, c.parent_to);
+                        sights.extend(c.targets.iter().map(|&t| (t, to)));
+                    }
+                }
+            }
             PageStep {
                 pos: cell_units(g, s.position),
                 world: [s.position.x, s.position.y],
@@ -256,7 +291,9 @@ pub fn episode_page(
                 wall_coverage: s.wall_coverage,
                 travel: s.parent_travel_m,
                 sigma_mm: s.position_sigma_m.map(|v| 1e3 * v),
+                smoothed_mm: s.smoothed_sigma_m.map(|v| 1e3 * v),
                 ellipse: s.covariance_m2.and_then(|c| ellipse(g, c)),
+                sights,
                 children: pts(&s.children),
                 path: pts(&s.driven_path()),
                 child_paths,
@@ -317,6 +354,14 @@ pub fn episode_page(
         ),
         ("final error (1σ)".into(), mm(s.final_position_sigma_m)),
         (
+            "worst error (1σ): when scanned, smoothed".into(),
+            format!(
+                "{}, {}",
+                mm(s.worst_position_sigma_m),
+                mm(s.worst_smoothed_sigma_m)
+            ),
+        ),
+        (
             "error / travel".into(),
             s.error_percent_of_travel
                 .map_or("—".into(), |p| format!("{p:.4} %")),
@@ -327,6 +372,10 @@ pub fn episode_page(
         ),
         ("stop".into(), s.stop_reason.name().to_string()),
         ("planner".into(), s.planner.name().to_string()),
+        (
+            "targets, closures".into(),
+            format!("{}, {}", episode.targets.len(), s.closures),
+        ),
         (
             "children, strategy".into(),
             format!("{children}, {}", episode.config.children.strategy.name()),
@@ -339,7 +388,26 @@ pub fn episode_page(
         scan: palette::SCAN.css(),
         ellipse: palette::ELLIPSE.css(),
         children: palette::CHILDREN.iter().map(|c| c.css()).collect(),
+        target: palette::TARGET.css(),
+        control: palette::CONTROL.css(),
+        sight: palette::SIGHT.css(),
+        smoothed: palette::SMOOTHED.css(),
     };
+    let targets: Vec<PageTarget> = episode
+        .targets
+        .iter()
+        .map(|t| PageTarget {
+            pos: cell_units(g, t.position),
+            name: t.name.clone(),
+            kind: match t.origin {
+                TargetOrigin::Control => "control",
+                TargetOrigin::Free => "free",
+                TargetOrigin::Placed => "placed",
+            },
+            from: t.placed_at_scan.map_or(1, |k| k + 1),
+            sigma_mm: t.smoothed_sigma_m.map(|v| 1e3 * v),
+        })
+        .collect();
     let mut legend = vec![
         ("parent's path".into(), colours.path.clone()),
         ("the next move".into(), "#d62728".into()),
@@ -351,6 +419,22 @@ pub fn episode_page(
         ),
         ("error ellipse".into(), colours.ellipse.clone()),
     ];
+    if !targets.is_empty() {
+        legend.push((
+            "targets (circled cross) and control points (triangle)".into(),
+            colours.target.clone(),
+        ));
+        legend.push((
+            "a station's measurement of a target".into(),
+            colours.sight.clone(),
+        ));
+    }
+    if episode.steps.iter().any(|s| s.smoothed_sigma_m.is_some()) {
+        legend.push((
+            "error plot: smoothed σ (every measurement)".into(),
+            colours.smoothed.clone(),
+        ));
+    }
     for c in 0..children {
         let colour = colours.children[c % colours.children.len()].clone();
         legend.push((format!("child {}, its AND region", c + 1), colour));
@@ -374,6 +458,7 @@ pub fn episode_page(
         },
         cells,
         steps,
+        targets,
         summary,
         legend,
         colours,

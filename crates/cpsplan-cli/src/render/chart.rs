@@ -353,17 +353,34 @@ pub fn error_chart(episode: &cpsplan::Episode, title: &str) -> Option<Chart> {
         return None;
     }
     let mut series = vec![Series {
-        label: "predicted 1\u{3c3} (first order)".into(),
+        label: "predicted 1\u{3c3} when scanned (filtering)".into(),
         points: predicted,
         colour: (0x6a, 0x3d, 0x9a),
         dashed: false,
         band: Vec::new(),
     }];
-    let mc: Vec<(f64, f64)> = episode
-        .steps
-        .iter()
-        .filter_map(|s| s.monte_carlo_error_m.map(|v| (s.scan as f64, v * 1e3)))
-        .collect();
+    let per_scan = |f: fn(&cpsplan::mission::Step) -> Option<f64>| -> Vec<(f64, f64)> {
+        episode
+            .steps
+            .iter()
+            .filter_map(|s| f(s).map(|v| (s.scan as f64, v * 1e3)))
+            .collect()
+    };
+    let smoothed = per_scan(|s| s.smoothed_sigma_m);
+    if !smoothed.is_empty() {
+        series.push(Series {
+            label: "predicted 1\u{3c3} after the whole network (smoothed)".into(),
+            points: smoothed,
+            colour: (
+                palette::SMOOTHED.0,
+                palette::SMOOTHED.1,
+                palette::SMOOTHED.2,
+            ),
+            dashed: false,
+            band: Vec::new(),
+        });
+    }
+    let mc = per_scan(|s| s.monte_carlo_error_m);
     let s = &episode.summary;
     if !mc.is_empty() {
         series.push(Series {
@@ -374,8 +391,34 @@ pub fn error_chart(episode: &cpsplan::Episode, title: &str) -> Option<Chart> {
             band: Vec::new(),
         });
     }
+    let mc_smoothed = per_scan(|s| s.smoothed_monte_carlo_error_m);
+    if !mc_smoothed.is_empty() {
+        series.push(Series {
+            label: "Monte Carlo mean error, smoothed".into(),
+            points: mc_smoothed,
+            colour: (0x66, 0xa6, 0x1e),
+            dashed: true,
+            band: Vec::new(),
+        });
+    }
+    if let (Some(max), Some(first), Some(last)) = (
+        episode.config.mission.max_sigma_m,
+        episode.steps.first(),
+        episode.steps.last(),
+    ) {
+        series.push(Series {
+            label: format!("tolerance {:.1} mm", max * 1e3),
+            points: vec![
+                (first.scan as f64, max * 1e3),
+                (last.scan as f64, max * 1e3),
+            ],
+            colour: (0x7f, 0x7f, 0x7f),
+            dashed: true,
+            band: Vec::new(),
+        });
+    }
     let c = &episode.config.children;
-    let subtitle = format!(
+    let mut subtitle = format!(
         "{} \u{b7} strategy {} \u{b7} final {:.1} mm after {:.0} m \u{b7} {:.4} % of travel",
         s.instrument,
         c.strategy.name(),
@@ -383,6 +426,21 @@ pub fn error_chart(episode: &cpsplan::Episode, title: &str) -> Option<Chart> {
         s.parent_travel_m,
         s.error_percent_of_travel.unwrap_or(f64::NAN)
     );
+    if let (Some(w), Some(ws)) = (s.worst_position_sigma_m, s.worst_smoothed_sigma_m) {
+        subtitle.push_str(&format!(
+            " \u{b7} worst {:.1} mm, smoothed {:.1} mm",
+            w * 1e3,
+            ws * 1e3
+        ));
+    }
+    if !episode.targets.is_empty() {
+        subtitle.push_str(&format!(
+            " \u{b7} {} target{}, {} closures",
+            episode.targets.len(),
+            if episode.targets.len() == 1 { "" } else { "s" },
+            s.closures
+        ));
+    }
     Some(Chart {
         title: title.to_string(),
         subtitle,

@@ -39,6 +39,10 @@ pub(crate) enum Swatch {
     Child(ChildLook),
     /// The world origin's mark.
     Origin,
+    /// A target: filled (placed by the team) or hollow (given).
+    Target(bool),
+    /// A control point.
+    Control,
 }
 
 /// One legend entry.
@@ -297,6 +301,23 @@ fn draw_swatch(canvas: &mut Canvas, style: Style, swatch: Swatch, x: i64, cy: i6
         }
         Swatch::Origin => {
             draw_origin(canvas, style, (x as f32 + s as f32 / 2.0, cy as f32));
+            s
+        }
+        Swatch::Target(filled) => {
+            let r = style.marker_radius();
+            super::targets::draw_target(
+                canvas,
+                style,
+                x as f32 + s as f32 / 2.0,
+                cy as f32,
+                r,
+                filled,
+            );
+            s
+        }
+        Swatch::Control => {
+            let r = style.marker_radius();
+            super::targets::draw_control(canvas, style, x as f32 + s as f32 / 2.0, cy as f32, r);
             s
         }
         Swatch::Ramp(stops) => {

@@ -3,7 +3,7 @@
 //! numbers, and a legend of exactly what is drawn; and its larger version for maps
 //! where the normal picture has to leave scan numbers out.
 
-use cpsplan::mission::CycleRecord;
+use cpsplan::mission::{CycleRecord, TargetOrigin};
 use cpsplan::world::CoverageTracker;
 use cpsplan::{CellState, Episode, GridGeometry, OccupancyGrid};
 
@@ -21,6 +21,7 @@ use super::palette;
 use super::placer::{label_size, Placer};
 use super::scan_labels::{draw_scan_labels, place_scan_labels, ScanLabels};
 use super::step::{window_info, Window};
+use super::targets::{draw_sight_lines, draw_targets};
 use super::team::child_look;
 use super::RenderError;
 
@@ -242,6 +243,24 @@ pub(super) fn draw_episode_figure(
     if scans > 1 {
         entries.push((Swatch::Dot(palette::END), "end".to_owned()));
     }
+    let origins = |o: TargetOrigin| episode.targets.iter().filter(|t| t.origin == o).count();
+    for (o, swatch, name) in [
+        (TargetOrigin::Control, Swatch::Control, "control point"),
+        (TargetOrigin::Free, Swatch::Target(false), "target (given)"),
+        (
+            TargetOrigin::Placed,
+            Swatch::Target(true),
+            "target (left by the team)",
+        ),
+    ] {
+        match origins(o) {
+            0 => {}
+            n => entries.push((swatch, format!("{name} \u{d7}{n}"))),
+        }
+    }
+    if !super::targets::sight_lines(episode).is_empty() {
+        entries.push((Swatch::Dashed(palette::SIGHT), "measured target".to_owned()));
+    }
     if origin {
         entries.push((Swatch::Origin, "world origin (0, 0)".to_owned()));
     }
@@ -316,13 +335,15 @@ fn episode_points(episode: &Episode) -> impl Iterator<Item = cpsplan::Point> + '
             .chain(s.driven_path())
             .chain(cycles)
     });
-    std::iter::once(episode.start).chain(steps)
+    let targets = episode.targets.iter().map(|t| t.position);
+    std::iter::once(episode.start).chain(steps).chain(targets)
 }
 
 /// Draws paths, marks and labels over the painted map; returns the scan labels.
 fn draw_overlay(frame: &mut Frame, episode: &Episode, magnification: Option<f64>) -> ScanLabels {
     let (canvas, layout, style) = (&mut frame.canvas, &frame.layout, frame.style);
     let legs = legs(layout, episode);
+    draw_sight_lines(canvas, layout, style, episode);
     draw_children_paths(canvas, layout, style, episode);
     draw_trajectory(canvas, style, &legs);
     if let Some(m) = magnification {
@@ -333,6 +354,7 @@ fn draw_overlay(frame: &mut Frame, episode: &Episode, magnification: Option<f64>
         .iter()
         .map(|&p| layout.world_to_px(p))
         .collect();
+    let targets = draw_targets(canvas, layout, style, episode);
     let diamonds = draw_scans_and_subgoals(canvas, layout, style, episode, &dots);
     let origin = origin_on_map(layout, style);
     if let Some(o) = origin {
@@ -344,6 +366,7 @@ fn draw_overlay(frame: &mut Frame, episode: &Episode, magnification: Option<f64>
         .iter()
         .chain(&diamonds)
         .chain(&stands)
+        .chain(&targets)
         .chain(&origin)
         .copied()
         .collect();

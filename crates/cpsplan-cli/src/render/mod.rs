@@ -37,6 +37,7 @@ pub(crate) mod palette;
 mod placer;
 mod scan_labels;
 mod step;
+mod targets;
 mod team;
 
 pub use self::bound::render_bound;

@@ -56,3 +56,11 @@ pub const SCORE_RAMP: [Rgb; 5] = [
 ];
 /// Error ellipses of the scan positions.
 pub const ELLIPSE: Rgb = Rgb::hex(0x6a3d9a);
+/// Targets (fixed points the team or the site set up).
+pub const TARGET: Rgb = Rgb::hex(0x00796b);
+/// Control points (known coordinates).
+pub const CONTROL: Rgb = Rgb::hex(0x1b5e20);
+/// Lines along which stations measured targets.
+pub const SIGHT: Rgb = Rgb::hex(0x26a69a);
+/// The smoothed error curve.
+pub const SMOOTHED: Rgb = Rgb::hex(0x1b9e77);

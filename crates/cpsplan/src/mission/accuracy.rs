@@ -6,6 +6,7 @@ use serde::{Deserialize, Serialize};
 
 use super::record::{CycleRecord, MoveRecord};
 use super::targets::{TargetOrigin, TargetRecord};
+use super::tolerance::Anchor;
 use crate::accuracy::{
     monte_carlo, realisation, Chain, CycleGeometry, Instrument, Model, Network, NetworkGeometry,
     PoseCovariance, Script, TargetPoint, ARCSEC,
@@ -92,6 +93,10 @@ pub struct Tracker {
     rule: LinkRule,
     targets: Vec<TargetRecord>,
     closures: usize,
+    /// The filtering σ of the last station that measured a target.
+    anchor: f64,
+    /// Stations that measured a target or control point.
+    anchors: Vec<Anchor>,
 }
 
 impl Tracker {
@@ -157,7 +162,61 @@ impl Tracker {
             rule: target_rule(config),
             targets,
             closures: 0,
+            anchor: 0.0,
+            anchors: Vec::new(),
         }
+    }
+
+    /// Earlier stations that measured a target or control point: where a
+    /// closure can return to.
+    pub fn anchors(&self) -> &[Anchor] {
+        &self.anchors
+    }
+
+    /// Notes the station at `position` with filtering σ `sigma` that measured
+    /// `sighted`, as an anchor when it measured enough.
+    fn note_anchor(&mut self, position: Point, sigma: f64, sighted: &[usize]) {
+        let control = sighted.iter().any(|&t| {
+            self.targets
+                .get(t)
+                .is_some_and(|r| r.origin == TargetOrigin::Control)
+        });
+        if sighted.is_empty() && !control {
+            return;
+        }
+        if let Some(a) = self
+            .anchors
+            .iter_mut()
+            .find(|a| a.position.distance(position) < 1.0)
+        {
+            if sigma < a.sigma_m {
+                *a = Anchor {
+                    position,
+                    sigma_m: sigma,
+                    targets: sighted.len(),
+                };
+            }
+            return;
+        }
+        self.anchors.push(Anchor {
+            position,
+            sigma_m: sigma,
+            targets: sighted.len(),
+        });
+    }
+
+    /// The filtering σ of the last station that measured a target or control
+    /// point (0 before any), metres.
+    pub fn anchor_sigma(&self) -> f64 {
+        self.anchor
+    }
+
+    /// Targets the team has left so far.
+    pub fn placed(&self) -> usize {
+        self.targets
+            .iter()
+            .filter(|t| t.origin == TargetOrigin::Placed)
+            .count()
     }
 
     /// The CPS chain where the team stands now.
@@ -201,6 +260,8 @@ impl Tracker {
             return Vec::new();
         }
         self.geometry.at_start = sighted.clone();
+        let start = self.geometry.start;
+        self.note_anchor(start, 0.0, &sighted);
         if let Some(n) = self.network.as_mut() {
             n.script_mut().sight_here(&sighted);
             if n.extend_nominal().is_err() {
@@ -246,6 +307,7 @@ impl Tracker {
         let Some(chain) = self.chain.as_ref() else {
             return;
         };
+        let before = chain.pose().position_sigma();
         let mut next = chain.clone();
         let mut records = self.targets.clone();
         let mut ok = true;
@@ -291,11 +353,20 @@ impl Tracker {
             return;
         }
         self.targets = records;
-        for c in &geometry {
+        for (c, cycle) in geometry.iter().zip(&movement.cycles) {
             let placed = c.here.clone();
+            if !placed.is_empty() {
+                self.anchor = before;
+            }
             self.note_measured(&placed, scan);
             if self.note_measured(&c.sighted, scan + 1) {
                 self.closures += 1;
+            }
+            if !c.sighted.is_empty() {
+                self.anchor = cycle.position_sigma_m.unwrap_or(self.anchor);
+                if let Some(sigma) = cycle.position_sigma_m {
+                    self.note_anchor(c.to, sigma, &c.sighted);
+                }
             }
         }
         if let Some(n) = self.network.as_mut() {

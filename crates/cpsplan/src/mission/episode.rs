@@ -11,7 +11,7 @@ use super::accuracy::{PoseAccuracy, PoseEstimate, Tracker};
 use super::calibration::GainCalibration;
 use super::clock::{CampaignTime, Clock};
 use super::record::MoveRecord;
-use super::targets::{TargetOrigin, TargetRecord};
+use super::targets::{choose_target, PlacementView, TargetOrigin, TargetRecord};
 use super::team;
 use crate::config::{number, Config, ConfigError, Planner};
 use crate::geom::{Cell, Point};
@@ -528,6 +528,8 @@ pub fn run_episode_with(
                         parent: here,
                         children: &children,
                         chain: chain.chain(),
+                        anchors: chain.anchors(),
+                        carried: config.targets.team_targets().saturating_sub(chain.placed()),
                     };
                     team::execute_move(&knowledge, team, &mut plan, reach, groundwork, &round)
                 }
@@ -537,6 +539,28 @@ pub fn run_episode_with(
         let accuracy = chain.current();
         let (mut movement, moved) = (movement, moved);
         let executes = !at_limit && !diminishing && moved.is_some();
+        let carried = config.targets.team_targets().saturating_sub(chain.placed());
+        let placed_already = movement
+            .cycles
+            .first()
+            .is_some_and(|c| !c.left_targets.is_empty());
+        if let (true, Some(c)) = (executes && carried > 0 && !placed_already, chain.chain()) {
+            let view = PlacementView {
+                knowledge: &knowledge,
+                here,
+                plan: &plan,
+                chain: c,
+                rule: chain.rule(),
+                scanner_range: config.scanner.range,
+                carried,
+                anchor_sigma: chain.anchor_sigma(),
+            };
+            if let (Some(left), Some(first)) =
+                (choose_target(&view, &movement), movement.cycles.first_mut())
+            {
+                first.left_targets.push(left);
+            }
+        }
         chain.follow(&knowledge, &mut movement, executes, steps.len() + 1);
         let step = Step {
             scan: steps.len() + 1,

@@ -37,6 +37,7 @@ mod record;
 mod step;
 mod targets;
 mod team;
+mod tolerance;
 
 pub use accuracy::{PoseAccuracy, PoseEstimate, Tracker};
 pub use calibration::{GainCalibration, CALIBRATION_MAX, CALIBRATION_MIN_SCANS};
@@ -53,3 +54,4 @@ pub use record::{
 pub use step::{plan_step, PlanError, StepPlan};
 pub use targets::{TargetOrigin, TargetRecord};
 pub use team::{execute_move, initial_children, plan_round, Groundwork, Moved, Team};
+pub use tolerance::{Anchor, CLOSURE_ANCHORS};

@@ -162,6 +162,8 @@ pub fn plan_step(
                 parent: here,
                 children: &kids,
                 chain: tracker.chain(),
+                anchors: tracker.anchors(),
+                carried: config.targets.team_targets(),
             };
             team::execute_move(knowledge, team, &mut plan, reach, groundwork, &config).0
         }

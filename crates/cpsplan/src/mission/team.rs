@@ -7,9 +7,10 @@
 use rand_chacha::ChaCha8Rng;
 
 use super::record::{ChildMove, CycleRecord, MoveRecord, RejectedTarget};
+use super::tolerance::{hold, Anchor, Held, Tolerance};
 use crate::accuracy::Chain;
 use crate::children::{CpsCycle, CycleParams, StepMaps};
-use crate::config::Config;
+use crate::config::{ChildStrategy, Config};
 use crate::geom::{polyline_length, Cell};
 use crate::grid::path::to_world;
 use crate::grid::travel::sweep;
@@ -146,6 +147,11 @@ pub struct Team<'a> {
     pub children: &'a [Cell],
     /// The CPS chain there (`None`: accuracy not tracked).
     pub chain: Option<&'a Chain>,
+    /// Earlier stations where the parent measured targets (closures return
+    /// there under a tolerance).
+    pub anchors: &'a [Anchor],
+    /// Targets the team still carries.
+    pub carried: usize,
 }
 
 /// Where a move left the robots and how far they drove.
@@ -185,6 +191,8 @@ pub fn execute_move(
         parent: here,
         children,
         chain,
+        anchors,
+        carried,
     } = team;
     let params = CycleParams::from_config(config);
     let Groundwork {
@@ -200,18 +208,68 @@ pub fn execute_move(
         config.seed ^ ((here.y as u64) << 32 | here.x as u64).wrapping_mul(0x9e37_79b9_7f4a_7c15);
     let maps = StepMaps::assemble(knowledge, parent_terrain, child_terrain, &params).seeded(seed);
     let retrieval = Retrieval::new(&maps).with_guide(here, &field);
+    let accurate = Retrieval::new(&maps)
+        .with_guide(here, &field)
+        .with_strategy(ChildStrategy::MinError);
+    let tolerance = match (config.mission.max_sigma_m, chain) {
+        (Some(max), Some(_)) => Some(Tolerance {
+            max,
+            anchors,
+            time: config.time,
+            rule: params.targets,
+            strategy: ChildStrategy::MinError,
+            carried,
+        }),
+        _ => None,
+    };
+    // Under a tolerance the children are placed for accuracy on every move: a
+    // heading error the chain carries cannot be undone by a later placement.
     let step = TeamStep {
         maps: &maps,
         roads: &roads,
-        retrieval: &retrieval,
+        retrieval: if tolerance.is_some() {
+            &accurate
+        } else {
+            &retrieval
+        },
         chain,
+    };
+    let plan_with = |from: Cell, to: Cell, kids: &[Cell], c: &Chain, s: ChildStrategy| {
+        let r = if s == params.strategy {
+            &retrieval
+        } else {
+            &accurate
+        };
+        let mut p = r.plan_move(from, to, kids, Some(c))?;
+        roads
+            .drive(&maps, &mut p)
+            .map_err(|e| MoveError::Stuck { at: e.parent_from })?;
+        Ok(p)
+    };
+    // The move taken to the scan station: under a tolerance, with the closure
+    // it may need first.
+    let finish = |record: MoveRecord, index: usize, target: Cell, m: MovePlan| {
+        let held = match (&tolerance, chain) {
+            (Some(tol), Some(c)) => hold(knowledge, tol, c, here, target, children, m, &plan_with),
+            _ => Held {
+                plan: m,
+                closure: None,
+                left: None,
+            },
+        };
+        let (mut record, moved) = finish(&step, record, index, target, children, &held.plan);
+        record.closure = held.closure;
+        if let (Some(left), Some(first)) = (held.left, record.cycles.first_mut()) {
+            first.left_targets.push(left);
+        }
+        (record, moved)
     };
     let order = plan.preference(config.parent.planner);
     let mut record = MoveRecord::default();
     // The error term: the moves to the best candidates planned, and the one with
     // the best G − γ·E taken.
     let mut planned: Vec<(usize, MovePlan, f64)> = Vec::new();
-    let evaluate = config.parent.gamma > 0.0 && chain.is_some();
+    let evaluate = (config.parent.gamma > 0.0 || tolerance.is_some()) && chain.is_some();
     for &index in &order {
         if evaluate && planned.len() >= config.parent.error_candidates {
             break;
@@ -223,7 +281,7 @@ pub fn execute_move(
                 plan.candidates[index].error_growth_m = Some(growth);
                 planned.push((index, m, growth));
             }
-            Ok(m) => return finish(&step, record, index, target, children, &m),
+            Ok(m) => return finish(record, index, target, m),
             Err(e) => {
                 record.rejected.push(RejectedTarget {
                     candidate: index,
@@ -253,13 +311,21 @@ pub fn execute_move(
         let score = |(i, _, growth): &(usize, MovePlan, f64)| {
             plan.candidates[*i].g - config.parent.gamma * term(*growth)
         };
+        // Under a tolerance, the moves that keep it come first.
+        let before = chain.map_or(0.0, |c| c.pose().position_sigma());
+        let keeps = |growth: f64| tolerance.as_ref().is_none_or(|t| before + growth <= t.max);
         let best = planned
             .iter()
-            .max_by(|a, b| score(a).total_cmp(&score(b)).then(b.0.cmp(&a.0)))
+            .max_by(|a, b| {
+                keeps(a.2)
+                    .cmp(&keeps(b.2))
+                    .then(score(a).total_cmp(&score(b)))
+                    .then(b.0.cmp(&a.0))
+            })
             .map(|p| p.0);
         if let Some((index, m, _)) = planned.into_iter().find(|p| Some(p.0) == best) {
             let target = plan.candidates[index].cell;
-            return finish(&step, record, index, target, children, &m);
+            return finish(record, index, target, m);
         }
     }
     for &index in order.iter().take(RELOCATE_CANDIDATES) {
@@ -283,7 +349,7 @@ pub fn execute_move(
                 );
                 plan.candidates.push(c);
                 let new = plan.candidates.len() - 1;
-                return finish(&step, record, new, cell, children, &m);
+                return finish(record, new, cell, m);
             }
         }
     }
@@ -304,7 +370,7 @@ pub fn execute_move(
             let c = fallback_candidate(knowledge, cell, &terrain.trav, &field, config, &gain);
             plan.candidates.push(c);
             let new = plan.candidates.len() - 1;
-            return finish(&step, record, new, cell, children, &m);
+            return finish(record, new, cell, m);
         }
     }
     (record, None)

@@ -18,8 +18,12 @@ pub struct ScanAccuracy {
     pub position_error_m: f64,
     /// Heading error of that pose, arc seconds.
     pub heading_error_arcsec: f64,
-    /// The predicted radial 1σ of the scan position, metres.
+    /// The predicted radial 1σ of the scan position when it scanned
+    /// (filtering), metres.
     pub position_sigma_m: Option<f64>,
+    /// Its predicted radial 1σ after the whole network (smoothed), metres.
+    #[serde(default)]
+    pub smoothed_sigma_m: Option<f64>,
 }
 
 /// The accuracy of the whole model.

@@ -41,16 +41,40 @@ pub struct RegisteredModel {
     pub accuracy: ModelAccuracy,
 }
 
-/// Builds the registered model of `episode`, run on `truth` under `config`:
-/// each scan's points go to `on_scan(scan, points)` in scan order. The points of
-/// a scan are expressed in the pose the CPS estimated for it
-/// ([`crate::mission::Step::estimate`], present with a Monte Carlo check; the
-/// true pose otherwise, so that only the range noise remains). Seeded by
-/// `config.seed`: the same episode gives the same points.
+/// Which estimate of each scan's pose a model is registered in.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Registration {
+    /// The whole network adjusted with every measurement
+    /// ([`crate::mission::Step::smoothed_estimate`]; the filtering estimate
+    /// where the episode has none).
+    #[default]
+    Smoothed,
+    /// What the team knew when it scanned ([`crate::mission::Step::estimate`]).
+    Filtering,
+}
+
+/// Builds the registered model of `episode`, run on `truth` under `config`, in
+/// the smoothed poses: [`build_model_in`] with [`Registration::Smoothed`].
 pub fn build_model(
     truth: &OccupancyGrid,
     episode: &Episode,
     config: &Config,
+    on_scan: impl FnMut(u32, &[ModelPoint]),
+) -> Result<RegisteredModel, ModelError> {
+    build_model_in(truth, episode, config, Registration::Smoothed, on_scan)
+}
+
+/// Builds the registered model of `episode`, run on `truth` under `config`:
+/// each scan's points go to `on_scan(scan, points)` in scan order. The points of
+/// a scan are expressed in the pose the CPS estimated for it by `registration`
+/// (present with a Monte Carlo check; the true pose otherwise, so that only the
+/// range noise remains). Seeded by `config.seed`: the same episode gives the
+/// same points.
+pub fn build_model_in(
+    truth: &OccupancyGrid,
+    episode: &Episode,
+    config: &Config,
+    registration: Registration,
     mut on_scan: impl FnMut(u32, &[ModelPoint]),
 ) -> Result<RegisteredModel, ModelError> {
     let m = &config.model;
@@ -85,7 +109,11 @@ pub fn build_model(
     let mut distances = Vec::new();
     for (k, (step, walls)) in episode.steps.iter().zip(&walls).enumerate() {
         let scan = u32::try_from(k).unwrap_or(u32::MAX);
-        let (error, heading_error) = match &step.estimate {
+        let estimate = match registration {
+            Registration::Smoothed => step.smoothed_estimate.or(step.estimate),
+            Registration::Filtering => step.estimate,
+        };
+        let (error, heading_error) = match &estimate {
             Some(e) => (
                 [
                     e.position.x - step.position.x,
@@ -121,8 +149,9 @@ pub fn build_model(
             mean_distance_m: mean,
             p95_distance_m: p95,
             position_error_m: position_error,
-            heading_error_arcsec: step.estimate.map_or(0.0, |e| e.heading_error_arcsec),
+            heading_error_arcsec: estimate.map_or(0.0, |e| e.heading_error_arcsec),
             position_sigma_m: step.position_sigma_m,
+            smoothed_sigma_m: step.smoothed_sigma_m,
         });
         stations.push(ModelStation {
             scan,

@@ -89,6 +89,7 @@ pub struct Retrieval<'m, 'k> {
     maps: &'m StepMaps<'k>,
     graph: OnceCell<VisibilityGraph>,
     guide: Option<(Cell, &'m DistanceField)>,
+    strategy: Option<ChildStrategy>,
 }
 
 impl<'m, 'k> Retrieval<'m, 'k> {
@@ -98,7 +99,15 @@ impl<'m, 'k> Retrieval<'m, 'k> {
             maps,
             graph: OnceCell::new(),
             guide: None,
+            strategy: None,
         }
+    }
+
+    /// The retrieval placing the children by `strategy` instead of the maps'
+    /// (a tolerance may call for `min-error` on one move).
+    pub fn with_strategy(mut self, strategy: ChildStrategy) -> Self {
+        self.strategy = Some(strategy);
+        self
     }
 
     /// The retrieval with the parent's travel distances from `source` over its
@@ -143,8 +152,9 @@ fn retrieve(
     let maps = retrieval.maps;
     // The legs are found with the Eq. (2) spots (cheap, and feasible exactly when
     // any spots are); the leg taken then gets the strategy's spots.
+    let strategy = retrieval.strategy.unwrap_or(maps.params().strategy);
     let finish = |cycle: CpsCycle, reach: &[ChildReach], chain: &mut Option<Chain>| {
-        let placed = match maps.params().strategy {
+        let placed = match strategy {
             ChildStrategy::Random => place_random(maps, &cycle, reach, &mut maps.rng()),
             ChildStrategy::MinError => chain
                 .as_ref()

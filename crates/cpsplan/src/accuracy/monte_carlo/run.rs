@@ -267,12 +267,10 @@ impl<'a> Run<'a> {
         .ok()?;
         net.adjust(NETWORK_ITERATIONS).ok()?;
         let ds = m.station_dim();
-        Some(
-            script.stations()[1..]
-                .iter()
-                .map(|&v| Some(error_of(m, net.value(v)?, &script.vars()[v].truth, ds)))
-                .collect::<Option<Vec<[f64; 4]>>>()?,
-        )
+        script.stations()[1..]
+            .iter()
+            .map(|&v| Some(error_of(m, net.value(v)?, &script.vars()[v].truth, ds)))
+            .collect::<Option<Vec<[f64; 4]>>>()
     }
 }
 

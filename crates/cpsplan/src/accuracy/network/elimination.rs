@@ -40,6 +40,10 @@ pub(crate) struct Singular {
     pub var: Option<usize>,
 }
 
+/// Whitened measurement rows: a Jacobian block per unknown, and the right-hand
+/// side.
+type Rows = (Vec<(usize, DMatrix<f64>)>, DVector<f64>);
+
 /// The active factor, the measurement rows not folded in yet, and the
 /// conditionals so far.
 #[derive(Debug, Clone, Default)]
@@ -54,7 +58,7 @@ pub(crate) struct Elimination {
     /// right-hand side, `d × (d + 1)`.
     factor: DMatrix<f64>,
     /// Whitened rows `[A | b]` not folded into the factor yet.
-    pending: Vec<(Vec<(usize, DMatrix<f64>)>, DVector<f64>)>,
+    pending: Vec<Rows>,
     /// The eliminated unknowns, in order.
     pub conditionals: Vec<Conditional>,
 }
@@ -260,7 +264,9 @@ fn upper_inverse(r: &DMatrix<f64>) -> Option<DMatrix<f64>> {
     if n == 0 {
         return Some(DMatrix::zeros(0, 0));
     }
-    if (0..n).any(|i| !(r[(i, i)].abs() > big * 1e-14)) {
+    if (0..n)
+        .any(|i| r[(i, i)].abs().partial_cmp(&(big * 1e-14)) != Some(std::cmp::Ordering::Greater))
+    {
         return None;
     }
     let mut inv = DMatrix::zeros(n, n);
