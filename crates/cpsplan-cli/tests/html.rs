@@ -51,10 +51,15 @@ fn headless(chrome: &Path, profile: &Path) -> std::process::Command {
 }
 
 fn page(dir: &Path, scans: &str) -> (PathBuf, String) {
+    page_with(dir, scans, &[])
+}
+
+fn page_with(dir: &Path, scans: &str, extra: &[&str]) -> (PathBuf, String) {
     Command::cargo_bin("cpsplan")
         .expect("binary built")
         .args(["explore", "-q", "--html", "--max-scans", scans, "--out"])
         .arg(dir)
+        .args(extra)
         .assert()
         .success();
     let path = dir.join("report.html");
@@ -181,6 +186,47 @@ fn chromium_renders_the_map_and_stepping_changes_it() {
     // Stepping on shows more of the map: fewer unknown pixels, more free ones.
     assert!(b[2] * 10 < a[2] * 9, "unknown pixels {} -> {}", a[2], b[2]);
     assert!(b[0] > a[0], "free pixels {} -> {}", a[0], b[0]);
+}
+
+/// With targets the page holds them and every station's measurement of them,
+/// draws them, and lists at each scan the targets measured on the way there.
+#[test]
+fn chromium_draws_the_targets_and_their_measurements() {
+    let tmp = tempfile::tempdir().unwrap();
+    let (path, html) = page_with(&tmp.path().join("out"), "10", &["--place-targets", "5"]);
+    let d = data(&html);
+    let targets = d["targets"].as_array().unwrap();
+    assert!(!targets.is_empty() && targets[0]["name"] == "P1" && targets[0]["kind"] == "placed");
+    let steps = d["steps"].as_array().unwrap();
+    let sights: usize = steps
+        .iter()
+        .map(|s| s["sights"].as_array().unwrap().len())
+        .sum();
+    assert!(sights >= 2, "{sights} measurements of targets");
+    assert!(steps.iter().all(|s| s["smoothed_mm"].is_f64()));
+    let Some(chrome) = chromium("chromium_draws_the_targets_and_their_measurements") else {
+        return;
+    };
+    let shot = tmp.path().join("last.png");
+    let out = headless(&chrome, &tmp.path().join("profile"))
+        .args([
+            "--hide-scrollbars",
+            "--window-size=1400,1000",
+            "--virtual-time-budget=20000",
+        ])
+        .arg(format!("--screenshot={}", shot.display()))
+        .arg(format!("file://{}#step=10", path.display()))
+        .output()
+        .expect("chromium runs");
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    // The targets are drawn in their colour (#00796b).
+    let img = image::open(&shot).expect("a screenshot").to_rgb8();
+    let teal = img.pixels().filter(|p| p.0 == [0, 121, 107]).count();
+    assert!(teal > 20, "{teal} target pixels");
 }
 
 /// An experiment's `report.html` shows its episodes' pages in a player: the

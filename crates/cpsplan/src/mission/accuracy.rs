@@ -9,7 +9,7 @@ use super::targets::{TargetOrigin, TargetRecord};
 use super::tolerance::Anchor;
 use crate::accuracy::{
     monte_carlo, realisation, Chain, CycleGeometry, Instrument, Model, Network, NetworkGeometry,
-    PoseCovariance, Script, TargetPoint, ARCSEC,
+    PoseCovariance, Role, Script, StationFit, TargetPoint, ARCSEC,
 };
 use crate::children::target_rule;
 use crate::config::{Config, TargetKind};
@@ -43,6 +43,26 @@ impl From<PoseCovariance> for PoseAccuracy {
             heading_sigma_arcsec: p.heading_sigma() / ARCSEC,
         }
     }
+}
+
+/// How the measurements of one scan station are checked and fit in the network
+/// adjustment (as survey adjustment software reports them).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct FitRecord {
+    /// The least redundancy number of the station's measurements: the share of
+    /// a blunder in it that the other measurements would reveal (0: none, it is
+    /// checked by nothing else; 1: all).
+    pub min_redundancy: f64,
+    /// The point that least checked measurement went to: `child N` or a
+    /// target's name.
+    pub least_checked: String,
+    /// With a Monte Carlo check: the largest standardized residual `|v| / σ_v`
+    /// of the station's readings in the first run, adjusted as a whole.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub max_standardized_residual: Option<f64>,
+    /// The point of that reading.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub worst_fitting: Option<String>,
 }
 
 /// The parent's pose at one scan as the CPS estimated it in one noisy
@@ -398,6 +418,52 @@ impl Tracker {
         self.chain = Some(next);
     }
 
+    /// The name of the point a measurement went to.
+    fn point_name(&self, role: Role) -> String {
+        match role {
+            Role::Child(i) => format!("child {}", i + 1),
+            Role::Target(t) => self
+                .targets
+                .get(t)
+                .map_or_else(|| format!("target {}", t + 1), |r| r.name.clone()),
+            Role::Station(k) => format!("station {k}"),
+        }
+    }
+
+    /// How every scan station's measurements are checked (redundancy numbers of
+    /// the nominal network), scan by scan; the first station's too.
+    pub fn checks(&self) -> Option<Vec<Option<FitRecord>>> {
+        let net = self.network.as_ref()?;
+        let fits = net.station_fits().ok()?;
+        let scans = std::iter::once(0).chain(self.move_ends.iter().map(|&c| c + 1));
+        Some(
+            scans
+                .map(|k| {
+                    fits.get(k).copied().flatten().map(|f| FitRecord {
+                        min_redundancy: f.min_redundancy.0,
+                        least_checked: self.point_name(f.min_redundancy.1),
+                        max_standardized_residual: None,
+                        worst_fitting: None,
+                    })
+                })
+                .collect(),
+        )
+    }
+
+    /// The worst-fitting reading of every scan station in a realisation's
+    /// adjustment, scan by scan (standardized residual and point).
+    fn worst_readings(&self, fits: &[Option<StationFit>]) -> Vec<Option<(f64, String)>> {
+        std::iter::once(0)
+            .chain(self.move_ends.iter().map(|&c| c + 1))
+            .map(|k| {
+                fits.get(k)
+                    .copied()
+                    .flatten()
+                    .map(|f| (f.max_standardized.0, self.point_name(f.max_standardized.1)))
+            })
+            .collect()
+    }
+
     /// The smoothed accuracy of every scan after the first (one per executed
     /// move), every measurement of the episode at once; records each target's
     /// smoothed σ. `None` without a network or when it cannot be solved.
@@ -422,16 +488,24 @@ impl Tracker {
             .collect()
     }
 
-    /// The pose errors `[x, y, z, ω]` at every scan after the first (one per
-    /// executed move) in the first Monte Carlo run seeded by `seed`: filtering,
-    /// and smoothed; `None` without a chain.
-    #[allow(clippy::type_complexity)]
-    pub fn realisation(&self, seed: u64) -> Option<(Vec<[f64; 4]>, Option<Vec<[f64; 4]>>)> {
+    /// The first Monte Carlo run seeded by `seed`: the pose errors `[x, y, z,
+    /// ω]` at every scan after the first (one per executed move), filtering and
+    /// smoothed, and every scan station's worst-fitting reading; `None` without
+    /// a chain.
+    pub fn realisation(&self, seed: u64) -> Option<ScanRealisation> {
         let chain = self.chain.as_ref()?;
         let r = realisation(chain.model(), &self.geometry, seed, 0, true).ok()?;
         let pick =
             |e: &[[f64; 4]]| -> Vec<[f64; 4]> { self.move_ends.iter().map(|&c| e[c]).collect() };
-        Some((pick(&r.filtering), r.smoothed.as_deref().map(pick)))
+        Some(ScanRealisation {
+            filtering: pick(&r.filtering),
+            smoothed: r.smoothed.as_deref().map(pick),
+            worst: r
+                .fits
+                .as_deref()
+                .map(|f| self.worst_readings(f))
+                .unwrap_or_default(),
+        })
     }
 
     /// The Monte Carlo mean radial error at every scan after the first (one per
@@ -449,6 +523,18 @@ impl Tracker {
             mc.smoothed_mean_error.as_deref().map(pick),
         ))
     }
+}
+
+/// The first Monte Carlo run of a mission, scan by scan ([`Tracker::realisation`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct ScanRealisation {
+    /// Filtering errors `[x, y, z, ω]` of every scan after the first.
+    pub filtering: Vec<[f64; 4]>,
+    /// Smoothed errors of every scan after the first.
+    pub smoothed: Option<Vec<[f64; 4]>>,
+    /// Every scan station's worst-fitting reading (standardized residual and
+    /// point), the first included.
+    pub worst: Vec<Option<(f64, String)>>,
 }
 
 /// The chain's view of a recorded cycle (without targets).

@@ -7,7 +7,7 @@ use rand_chacha::ChaCha8Rng;
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
-use super::accuracy::{PoseAccuracy, PoseEstimate, Tracker};
+use super::accuracy::{FitRecord, PoseAccuracy, PoseEstimate, Tracker};
 use super::calibration::GainCalibration;
 use super::clock::{CampaignTime, Clock};
 use super::record::MoveRecord;
@@ -211,6 +211,10 @@ pub struct Step {
     /// episode's `targets`).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub targets: Vec<usize>,
+    /// How the station's measurements are checked and, with a Monte Carlo
+    /// check, fit in the adjustment of the whole network.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub fit: Option<FitRecord>,
     /// The move that followed: CPS cycles to the target (empty without children or
     /// when the mission stopped here).
     #[serde(rename = "move")]
@@ -553,6 +557,7 @@ pub fn run_episode_with(
                 rule: chain.rule(),
                 scanner_range: config.scanner.range,
                 carried,
+                budget: config.targets.team_targets(),
                 anchor_sigma: chain.anchor_sigma(),
             };
             if let (Some(left), Some(first)) =
@@ -586,6 +591,7 @@ pub fn run_episode_with(
             smoothed_heading_sigma_arcsec: None,
             smoothed_monte_carlo_error_m: None,
             smoothed_estimate: None,
+            fit: None,
             targets: sighted_here,
             plan,
             movement,
@@ -675,15 +681,26 @@ pub fn run_episode_with(
             }
         }
     }
-    if let Some((errors, smoothed)) = mc.as_ref().and_then(|_| chain.realisation(config.seed)) {
+    if let Some(checks) = chain.checks() {
+        for (step, fit) in steps.iter_mut().zip(checks) {
+            step.fit = fit;
+        }
+    }
+    if let Some(r) = mc.as_ref().and_then(|_| chain.realisation(config.seed)) {
         steps[0].estimate = Some(PoseEstimate::new(steps[0].position, [0.0; 4]));
-        for (step, e) in steps[1..].iter_mut().zip(errors) {
+        for (step, e) in steps[1..].iter_mut().zip(r.filtering) {
             step.estimate = Some(PoseEstimate::new(step.position, e));
         }
-        if let Some(smoothed) = smoothed {
+        if let Some(smoothed) = r.smoothed {
             steps[0].smoothed_estimate = steps[0].estimate;
             for (step, e) in steps[1..].iter_mut().zip(smoothed) {
                 step.smoothed_estimate = Some(PoseEstimate::new(step.position, e));
+            }
+        }
+        for (step, worst) in steps.iter_mut().zip(r.worst) {
+            if let (Some(fit), Some((v, name))) = (step.fit.as_mut(), worst) {
+                fit.max_standardized_residual = Some(v);
+                fit.worst_fitting = Some(name);
             }
         }
     }

@@ -39,7 +39,7 @@ mod targets;
 mod team;
 mod tolerance;
 
-pub use accuracy::{PoseAccuracy, PoseEstimate, Tracker};
+pub use accuracy::{FitRecord, PoseAccuracy, PoseEstimate, ScanRealisation, Tracker};
 pub use calibration::{GainCalibration, CALIBRATION_MAX, CALIBRATION_MIN_SCANS};
 pub use clock::{CampaignTime, Clock};
 pub use episode::{
@@ -52,6 +52,6 @@ pub use record::{
     RejectedTarget,
 };
 pub use step::{plan_step, PlanError, StepPlan};
-pub use targets::{TargetOrigin, TargetRecord};
+pub use targets::{TargetOrigin, TargetRecord, DRIFT_STEP_M, TARGET_SPACING};
 pub use team::{execute_move, initial_children, plan_round, Groundwork, Moved, Team};
 pub use tolerance::{Anchor, CLOSURE_ANCHORS};

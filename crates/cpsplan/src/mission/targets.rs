@@ -88,10 +88,18 @@ pub struct PlacementView<'a> {
     pub scanner_range: f64,
     /// Targets the team still carries.
     pub carried: usize,
+    /// Targets it carried at the start.
+    pub budget: usize,
     /// The filtering σ of the last station that measured a target (0 at the
     /// start), metres.
     pub anchor_sigma: f64,
 }
+
+/// No target is left nearer than this share of the scanner's range to another
+/// (measured on the built-in and shared maps: at the whole range the team left
+/// a third of what it carried and the tunnel's worst smoothed σ was 99 mm; at
+/// half, 31 mm, docs/ACCURACY.md).
+pub const TARGET_SPACING: f64 = 0.5;
 
 /// The σ a station may gain over the last station that measured a target
 /// before the team leaves one (the drift rule), metres.
@@ -100,7 +108,8 @@ pub const DRIFT_STEP_M: f64 = 0.01;
 /// Whether and where a child leaves a target as the team leaves this station
 /// (`targets.place = "auto"`). A target is left, when no target in sight here is
 /// known about as well as the station (within [`DRIFT_STEP_M`]) and none stands
-/// within the scanner's range of the spot, in one of these cases:
+/// within [`TARGET_SPACING`] of the scanner's range of the spot, in one of these
+/// cases:
 /// - *first*: no target has been measured yet;
 /// - *branch*: the frontier lies in two directions at least 90° apart and more
 ///   than twice the scanner's range from each other, so the team will pass here
@@ -129,7 +138,9 @@ pub fn choose_target(view: &PlacementView, movement: &MoveRecord) -> Option<Left
         return None;
     }
     let existing: Vec<Point> = chain.targets().map(|t| t.position).collect();
-    let spaced = |p: Point| existing.iter().all(|t| t.distance(p) >= view.scanner_range);
+    let spacing =
+        TARGET_SPACING * view.scanner_range * (view.budget as f64 / view.carried as f64).sqrt();
+    let spaced = |p: Point| existing.iter().all(|t| t.distance(p) >= spacing);
     let here = g.cell_center(view.here);
     let first = !(0..chain.target_count()).any(|t| chain.measured(t));
     let reason = if first {

@@ -26,6 +26,7 @@ use self::run::{one_run, priors};
 use super::chain::{ChainError, PoseCovariance};
 use super::geometry::NetworkGeometry;
 use super::model::Model;
+use super::network::StationFit;
 use super::script::Script;
 
 /// What the Monte Carlo runs gave.
@@ -55,6 +56,9 @@ pub struct Realisation {
     pub filtering: Vec<[f64; 4]>,
     /// Smoothed errors, one per cycle.
     pub smoothed: Option<Vec<[f64; 4]>>,
+    /// With smoothing: how every station's readings fit the adjusted network
+    /// (by station number, the first included).
+    pub fits: Option<Vec<Option<StationFit>>>,
 }
 
 /// Runs `runs` noisy realisations of the network `net`; `smooth`: adjust each
@@ -70,7 +74,17 @@ pub fn monte_carlo(
     let script = Script::of(*model, net);
     let errors: Vec<run::RunErrors> = (0..runs)
         .into_par_iter()
-        .map(|r| one_run(model, net, &script, &priors, &mut run_rng(seed, r), smooth))
+        .map(|r| {
+            one_run(
+                model,
+                net,
+                &script,
+                &priors,
+                &mut run_rng(seed, r),
+                smooth,
+                false,
+            )
+        })
         .collect();
     let k = net.cycles.len();
     let (mean_error, covariance) = summarise(k, runs, errors.iter().map(|e| &e.filtering[..]));
@@ -142,10 +156,12 @@ pub fn realisation(
         &priors,
         &mut run_rng(seed, run),
         smooth,
+        smooth,
     );
     Ok(Realisation {
         filtering: e.filtering,
         smoothed: e.smoothed,
+        fits: e.fits,
     })
 }
 

@@ -13,7 +13,7 @@ use rand_distr::{Distribution, StandardNormal};
 use super::super::chain::{invert_spd, Chain, ChainError};
 use super::super::geometry::NetworkGeometry;
 use super::super::model::Model;
-use super::super::network::{wrap, Network};
+use super::super::network::{wrap, Network, StationFit};
 use super::super::script::{Event, Role, Script};
 
 /// Gauss–Newton iterations per resection at most (from the drifted guess the noise
@@ -58,6 +58,8 @@ pub(super) fn priors(model: &Model, net: &NetworkGeometry) -> Result<Vec<Prior>,
 pub(super) struct RunErrors {
     pub filtering: Vec<[f64; 4]>,
     pub smoothed: Option<Vec<[f64; 4]>>,
+    /// With `fits`: every station's fit after the adjustment.
+    pub fits: Option<Vec<Option<StationFit>>>,
 }
 
 /// One realisation (module doc).
@@ -68,15 +70,21 @@ pub(super) fn one_run(
     priors: &[Prior],
     rng: &mut ChaCha8Rng,
     smooth: bool,
+    fits: bool,
 ) -> RunErrors {
     let mut run = Run::new(model, script, net.children());
     for e in script.events() {
         run.event(*e, priors, rng);
     }
-    let smoothed = smooth.then(|| run.smoothed(script)).flatten();
+    let adjusted = smooth.then(|| run.smoothed(script, fits)).flatten();
+    let (smoothed, fits) = match adjusted {
+        Some((s, f)) => (Some(s), f),
+        None => (None, None),
+    };
     RunErrors {
         filtering: run.errors,
         smoothed,
+        fits,
     }
 }
 
@@ -255,8 +263,14 @@ impl<'a> Run<'a> {
     }
 
     /// The whole network adjusted from the same readings, starting at the
-    /// filtering estimates; `None` when it cannot be solved.
-    fn smoothed(&self, script: &Script) -> Option<Vec<[f64; 4]>> {
+    /// filtering estimates, with every station's fit when asked; `None` when it
+    /// cannot be solved.
+    #[allow(clippy::type_complexity)]
+    fn smoothed(
+        &self,
+        script: &Script,
+        fits: bool,
+    ) -> Option<(Vec<[f64; 4]>, Option<Vec<Option<StationFit>>>)> {
         let m = self.model;
         let mut net = Network::new(script.clone());
         net.extend(
@@ -267,10 +281,12 @@ impl<'a> Run<'a> {
         .ok()?;
         net.adjust(NETWORK_ITERATIONS).ok()?;
         let ds = m.station_dim();
-        script.stations()[1..]
+        let errors = script.stations()[1..]
             .iter()
             .map(|&v| Some(error_of(m, net.value(v)?, &script.vars()[v].truth, ds)))
-            .collect::<Option<Vec<[f64; 4]>>>()
+            .collect::<Option<Vec<[f64; 4]>>>()?;
+        let fits = if fits { net.station_fits().ok() } else { None };
+        Some((errors, fits))
     }
 }
 

@@ -82,6 +82,16 @@ pub struct Fit {
     pub redundancy: f64,
 }
 
+/// How the measurements of one station are checked and fit.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct StationFit {
+    /// The least redundancy number of its measurements, and the point that
+    /// measurement went to.
+    pub min_redundancy: (f64, Role),
+    /// The largest standardized residual of its measurements, and the point.
+    pub max_standardized: (f64, Role),
+}
+
 /// A campaign's network: its script, the measurements' values, the current
 /// estimate of every unknown and the incremental solution.
 #[derive(Debug, Clone)]
@@ -309,6 +319,39 @@ impl Network {
         self.feed(&mut elim, 0, 0)?;
         self.elim = elim;
         Ok(last)
+    }
+
+    /// The fit of every station's measurements ([`Self::fits`]), by station
+    /// number (`None` for a station that measured nothing, as the first may).
+    pub fn station_fits(&self) -> Result<Vec<Option<StationFit>>, NetworkError> {
+        let fits = self.fits()?;
+        let stations = self.script.stations();
+        let mut index = vec![usize::MAX; self.values.len()];
+        for (k, &v) in stations.iter().enumerate() {
+            if v < index.len() {
+                index[v] = k;
+            }
+        }
+        let vars = self.script.vars();
+        let mut out: Vec<Option<StationFit>> = vec![None; stations.len()];
+        for f in fits {
+            let m = &self.measurements[f.measurement];
+            let Some(&k) = index.get(m.station).filter(|&&k| k != usize::MAX) else {
+                continue;
+            };
+            let role = vars[m.point].role;
+            let e = out[k].get_or_insert(StationFit {
+                min_redundancy: (f.redundancy, role),
+                max_standardized: (f.standardized, role),
+            });
+            if f.redundancy < e.min_redundancy.0 {
+                e.min_redundancy = (f.redundancy, role);
+            }
+            if f.standardized > e.max_standardized.0 {
+                e.max_standardized = (f.standardized, role);
+            }
+        }
+        Ok(out)
     }
 
     /// The fit of every measurement at the current estimates: standardized

@@ -226,3 +226,68 @@ fn an_open_chain_ends_where_the_chain_does() {
     );
     assert!(d < 1e-9, "{d:e}");
 }
+
+/// The whitened empirical covariance of `errors` (x, y) by the analytic `cov`:
+/// the largest deviation of its variances from 1 and of its covariance from 0.
+fn whitened(errors: &[[f64; 2]], cov: &DMatrix<f64>) -> (f64, f64) {
+    let a = nalgebra::Matrix2::new(cov[(0, 0)], cov[(0, 1)], cov[(1, 0)], cov[(1, 1)]);
+    let li = a
+        .cholesky()
+        .expect("a covariance")
+        .l()
+        .try_inverse()
+        .expect("invertible");
+    let n = errors.len() as f64;
+    let mut e = nalgebra::Matrix2::zeros();
+    for v in errors {
+        let w = li * nalgebra::Vector2::new(v[0], v[1]);
+        e += w * w.transpose();
+    }
+    e /= n;
+    (
+        (e[(0, 0)] - 1.0).abs().max((e[(1, 1)] - 1.0).abs()),
+        e[(0, 1)].abs(),
+    )
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 6, ..ProptestConfig::default() })]
+
+    /// Noise drawn through random networks with loops: the filtering estimates
+    /// (sequential Gauss–Newton) scatter as the chain predicts, and the
+    /// smoothed ones (Gauss–Newton on the whole network) as the network
+    /// adjustment predicts, at the last station and at the middle one; each
+    /// whitened variance within 5 standard errors of 1 (√(2/N)), the covariance
+    /// within 5/√N of 0.
+    #[test]
+    fn monte_carlo_agrees_with_chain_and_network((_, net) in network_strategy()) {
+        prop_assume!(well_posed(&net) && net.cycles.len() >= 2);
+        let model = model(false);
+        let filtering = chain_of(model, &net);
+        prop_assume!(filtering.is_some());
+        let filtering = filtering.expect("assumed");
+        let network = Network::nominal(Script::of(model, &net)).expect("well posed");
+        let smoothed = network.smooth().expect("solvable");
+        let runs = 1500;
+        let mc: Vec<_> = (0..runs)
+            .map(|r| crate::accuracy::realisation(&model, &net, 11, r, true).expect("runs"))
+            .collect();
+        let (tol_var, tol_cov) = (5.0 * (2.0 / runs as f64).sqrt(), 5.0 / (runs as f64).sqrt());
+        let k = net.cycles.len();
+        for c in [k / 2, k - 1] {
+            let f: Vec<[f64; 2]> = mc.iter().map(|r| [r.filtering[c][0], r.filtering[c][1]]).collect();
+            let (dv, dc) = whitened(&f, &filtering[c]);
+            prop_assert!(dv < tol_var && dc < tol_cov, "filtering, cycle {c}: {dv}, {dc}");
+            let s: Vec<[f64; 2]> = mc
+                .iter()
+                .map(|r| {
+                    let e = r.smoothed.as_ref().expect("smoothed")[c];
+                    [e[0], e[1]]
+                })
+                .collect();
+            let v = network.script().stations()[c + 1];
+            let (dv, dc) = whitened(&s, smoothed[v].as_ref().expect("a station"));
+            prop_assert!(dv < tol_var && dc < tol_cov, "smoothed, cycle {c}: {dv}, {dc}");
+        }
+    }
+}
