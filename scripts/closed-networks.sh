@@ -20,9 +20,11 @@ import json, sys
 s = json.load(open(sys.argv[1]))
 mm = lambda v: "—" if v is None else f"{v * 1e3:.1f}"
 pct = 100 * s["worst_smoothed_sigma_m"] / s["parent_travel_m"] if s["parent_travel_m"] else 0
+import math
+pct = f"{pct:.4f}" if pct >= 1e-3 else f"{pct:.{1 - math.floor(math.log10(pct))}f}"
 print(f"| {sys.argv[2]} | {s['scans']} | {s['parent_travel_m']:.0f} | {s['campaign_time_h']:.1f} | "
       f"{mm(s['final_position_sigma_m'])} | {mm(s['worst_position_sigma_m'])} | {mm(s['worst_smoothed_sigma_m'])} | "
-      f"{pct:.4f} % | {s['targets_placed']} | {s['closures']} | {len(s['sigma_violations'])} |")
+      f"{pct} % | {s['targets_placed']} | {s['closures']} | {len(s['sigma_violations'])} |")
 PY
 }
 echo "| run | scans | parent travel (m) | campaign (h) | final σ (mm) | worst σ when scanned (mm) | worst smoothed σ (mm) | worst smoothed / travel | targets left | closures | scans over tolerance |"

@@ -406,10 +406,9 @@ pub struct ExploreArgs {
           help = with_default("Vertical spacing of the 3D model's points on a wall, metres",
                               defaults().model.vertical_step))]
     pub vertical_step: Option<f64>,
-    /// Output directory.
     /// Targets and control points set up before the campaign, as CSV (columns
     /// name, x, y, kind = control|free, sigma_mm; replaces the config's
-    /// [[targets]]).
+    /// `[[targets]]`).
     #[arg(long, value_name = "FILE.csv")]
     pub targets: Option<PathBuf>,
     /// The team carries N targets and leaves them where the planner judges
@@ -420,6 +419,7 @@ pub struct ExploreArgs {
     /// the network first (mission.max_sigma_m).
     #[arg(long, value_name = "M", allow_hyphen_values = true, value_parser = parse_real)]
     pub max_sigma: Option<f64>,
+    /// Output directory.
     #[arg(long, value_name = "DIR", default_value = "out")]
     pub out: PathBuf,
     /// Print nothing but errors and warnings.

@@ -5,7 +5,7 @@
 
 use std::sync::OnceLock;
 
-use cpsplan::model::{build_model, ModelPoint};
+use cpsplan::model::{build_model, build_model_in, ModelPoint, Registration};
 use cpsplan::world::builtin::BuiltinMap;
 use cpsplan::{run_episode, Config, Episode, OccupancyGrid};
 
@@ -22,11 +22,13 @@ fn episode() -> &'static (OccupancyGrid, Episode) {
     })
 }
 
-/// The episode with every estimate removed (the points in the true poses).
+/// The episode with every estimate removed, filtering and smoothed (the points
+/// in the true poses).
 fn exact_poses(ep: &Episode) -> Episode {
     let mut ep = ep.clone();
     for s in &mut ep.steps {
         s.estimate = None;
+        s.smoothed_estimate = None;
     }
     ep
 }
@@ -111,6 +113,15 @@ fn the_estimated_poses_move_each_scan_by_at_most_their_error() {
     assert_eq!(again, model);
     let noise_only = build_model(truth, &exact_poses(ep), &config, |_, _| {}).unwrap();
     assert!(a.mean_distance_m > 2.0 * noise_only.accuracy.mean_distance_m);
+    // By default the scans stand in their smoothed poses; in the filtering
+    // poses the model differs, each scan again within its pose's error.
+    assert!(ep.steps.iter().all(|s| s.smoothed_estimate.is_some()));
+    let filtering = build_model_in(truth, ep, &config, Registration::Filtering, |_, _| {}).unwrap();
+    assert_ne!(filtering.accuracy, model.accuracy);
+    for (s, step) in filtering.accuracy.scans.iter().zip(&ep.steps) {
+        let e = step.estimate.unwrap();
+        assert!((s.position_error_m - e.position_error_m).abs() < 1e-12);
+    }
 }
 
 #[test]

@@ -15,7 +15,7 @@ use crate::cli::{ExploreArgs, ScoringArg};
 use crate::formats::cloud::{encode_las, encode_ply, encode_stations_ply};
 use crate::formats::rosmap::ReadLimits;
 use crate::formats::targets::read_targets;
-use crate::render::{render_step, StepView};
+use crate::render::{percent, render_step, StepView};
 use crate::report::{write_atomic, write_episode_outputs, write_temp, ReportDir, TempFile};
 
 /// The file name of the figure of the step after scan `n`: `step-007.png`.
@@ -278,9 +278,9 @@ pub fn run(args: &ExploreArgs) -> Result<()> {
                 .map(|e| format!(", Monte Carlo mean error {:.1} mm", e * 1e3))
                 .unwrap_or_default();
             println!(
-                "predicted error of the last scan position: {:.1} mm (1\u{3c3}, {:.4} % of the parent's travel, {}){mc}",
+                "predicted error of the last scan position: {:.1} mm (1\u{3c3}, {} % of the parent's travel, {}){mc}",
                 sigma * 1e3,
-                p,
+                percent(p),
                 s.instrument
             );
         }
@@ -344,6 +344,14 @@ pub fn run(args: &ExploreArgs) -> Result<()> {
     }
     if let Some(w) = tolerance_warning(&episode) {
         eprintln!("warning: {w}");
+    }
+    let c = &episode.config;
+    if c.children.count < 2 && (!c.targets.is_unset() || c.mission.max_sigma_m.is_some()) {
+        eprintln!(
+            "warning: targets, control points and --max-sigma act on the CPS network, which needs \
+             two children or more (--children {}): ignored",
+            c.children.count
+        );
     }
     if let Some(w) = model_warning {
         eprintln!("warning: {w}");

@@ -255,6 +255,10 @@ pub struct Headline {
     pub final_sigma_mm_mean: Option<f64>,
     /// Its standard deviation.
     pub final_sigma_mm_sd: Option<f64>,
+    /// Mean of each episode's worst filtering σ of any scan, mm.
+    pub worst_sigma_mm_mean: Option<f64>,
+    /// Mean of each episode's worst smoothed σ of any scan, mm.
+    pub worst_smoothed_sigma_mm_mean: Option<f64>,
     /// That σ as % of the parent's travel.
     pub error_percent_of_travel_mean: Option<f64>,
     /// Campaign time, h.
@@ -370,6 +374,9 @@ pub fn headline(condition: &Condition<'_>) -> Headline {
         subgoal_retrievals_mean: of(&|s| Some(s.subgoal_retrievals as f64)).map(|m| m.0),
         final_sigma_mm_mean: sigma.map(|m| m.0),
         final_sigma_mm_sd: sigma.map(|m| m.1),
+        worst_sigma_mm_mean: of(&|s| s.worst_position_sigma_m.map(|v| 1e3 * v)).map(|m| m.0),
+        worst_smoothed_sigma_mm_mean: of(&|s| s.worst_smoothed_sigma_m.map(|v| 1e3 * v))
+            .map(|m| m.0),
         error_percent_of_travel_mean: of(&|s| s.error_percent_of_travel).map(|m| m.0),
         campaign_time_h_mean: time.map(|m| m.0),
         campaign_time_h_sd: time.map(|m| m.1),
@@ -398,8 +405,8 @@ pub fn markdown_table(rows: &[Headline]) -> String {
     let mut out = String::from(
         "| condition | episodes | scans | to 90 % | to 99 % | coverage | m² per scan | \
          parent travel, m | m² per m | children's travel, m | CPS cycles | moves with subgoals | \
-         final σ, mm | σ / travel | campaign, h |\n\
-         |---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n",
+         final σ, mm | σ / travel | worst σ scanned / smoothed, mm | campaign, h |\n\
+         |---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n",
     );
     for r in rows {
         let episodes = if r.failed > 0 {
@@ -408,7 +415,7 @@ pub fn markdown_table(rows: &[Headline]) -> String {
             r.episodes.to_string()
         };
         out.push_str(&format!(
-            "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |\n",
+            "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |\n",
             r.condition,
             episodes,
             pm(r.scans_mean, r.scans_sd, 1),
@@ -425,6 +432,10 @@ pub fn markdown_table(rows: &[Headline]) -> String {
             pm(r.final_sigma_mm_mean, r.final_sigma_mm_sd, 1),
             r.error_percent_of_travel_mean
                 .map_or("—".into(), |v| format!("{v:.4} %")),
+            match (r.worst_sigma_mm_mean, r.worst_smoothed_sigma_mm_mean) {
+                (Some(a), Some(b)) => format!("{a:.1} / {b:.1}"),
+                _ => "—".into(),
+            },
             pm(r.campaign_time_h_mean, r.campaign_time_h_sd, 1),
         ));
     }

@@ -72,6 +72,18 @@ const HEIGHT: f64 = 720.0;
 const TEXT: u32 = 2;
 /// Height of a row of the legend.
 const LEGEND_ROW: f64 = 28.0;
+/// Height of a line of the subtitle (one per line of [`Chart::subtitle`]).
+const SUBTITLE_ROW: f64 = 24.0;
+
+/// A small percentage with two significant digits at least (`0.0346`,
+/// `0.000036`).
+pub fn percent(p: f64) -> String {
+    if !(p.is_finite() && p > 0.0) || p >= 1e-3 {
+        return format!("{p:.4}");
+    }
+    let digits = (1.0 - p.log10().floor()) as usize;
+    format!("{p:.digits$}")
+}
 
 /// "Nice" tick values covering `lo..hi`: about `n` steps of 1, 2 or 5 × 10^k.
 fn ticks(lo: f64, hi: f64, n: usize) -> Vec<f64> {
@@ -108,10 +120,21 @@ impl Chart {
         let white = Rgb::hex(0xffffff);
         s.rect(0.0, 0.0, WIDTH, HEIGHT, white);
         s.text(40.0, 20.0, &self.title, 3, palette::TEXT, 0);
-        s.text(40.0, 56.0, &self.subtitle, TEXT, palette::MUTED_TEXT, 0);
+        let lines: Vec<&str> = self.subtitle.lines().collect();
+        for (i, line) in lines.iter().enumerate() {
+            s.text(
+                40.0,
+                56.0 + SUBTITLE_ROW * i as f64,
+                line,
+                TEXT,
+                palette::MUTED_TEXT,
+                0,
+            );
+        }
         // Legend entries in rows under the subtitle, as many to a row as fit.
         let mut legend = Vec::with_capacity(self.series.len());
-        let (mut lx, mut ly) = (40.0, 96.0);
+        let extra = SUBTITLE_ROW * lines.len().saturating_sub(1) as f64;
+        let (mut lx, mut ly) = (40.0, 96.0 + extra);
         for series in &self.series {
             let w = 80.0 + text_width(&series.label, TEXT) as f64;
             if lx > 40.0 && lx + w - 36.0 > WIDTH - 40.0 {
@@ -419,27 +442,27 @@ pub fn error_chart(episode: &cpsplan::Episode, title: &str) -> Option<Chart> {
     }
     let c = &episode.config.children;
     let mut subtitle = format!(
-        "{} \u{b7} strategy {} \u{b7} final {:.1} mm after {:.0} m \u{b7} {:.4} % of travel",
+        "{} \u{b7} strategy {} \u{b7} final {:.1} mm after {:.0} m \u{b7} {} % of travel",
         s.instrument,
         c.strategy.name(),
         s.final_position_sigma_m.unwrap_or(f64::NAN) * 1e3,
         s.parent_travel_m,
-        s.error_percent_of_travel.unwrap_or(f64::NAN)
+        percent(s.error_percent_of_travel.unwrap_or(f64::NAN))
     );
     if let (Some(w), Some(ws)) = (s.worst_position_sigma_m, s.worst_smoothed_sigma_m) {
         subtitle.push_str(&format!(
-            " \u{b7} worst {:.1} mm, smoothed {:.1} mm",
+            "\nworst scan {:.1} mm when scanned, {:.1} mm smoothed",
             w * 1e3,
             ws * 1e3
         ));
-    }
-    if !episode.targets.is_empty() {
-        subtitle.push_str(&format!(
-            " \u{b7} {} target{}, {} closures",
-            episode.targets.len(),
-            if episode.targets.len() == 1 { "" } else { "s" },
-            s.closures
-        ));
+        if !episode.targets.is_empty() {
+            subtitle.push_str(&format!(
+                " \u{b7} {} target{}, {} closures",
+                episode.targets.len(),
+                if episode.targets.len() == 1 { "" } else { "s" },
+                s.closures
+            ));
+        }
     }
     Some(Chart {
         title: title.to_string(),
@@ -468,6 +491,15 @@ mod tests {
                 band: Vec::new(),
             }],
         }
+    }
+
+    #[test]
+    fn small_percentages_keep_two_significant_digits() {
+        assert_eq!(percent(0.0346), "0.0346");
+        assert_eq!(percent(0.0085), "0.0085");
+        assert_eq!(percent(0.000036), "0.000036");
+        assert_eq!(percent(0.00012), "0.00012");
+        assert_eq!(percent(0.0), "0.0000");
     }
 
     #[test]

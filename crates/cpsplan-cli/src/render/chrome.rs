@@ -43,6 +43,8 @@ pub(crate) enum Swatch {
     Target(bool),
     /// A control point.
     Control,
+    /// A thin translucent line (a station's measurement of a target).
+    Thin(Rgb),
 }
 
 /// One legend entry.
@@ -104,7 +106,9 @@ impl Style {
 
     fn legend_item_width(self, item: &LegendItem<'_>) -> i64 {
         let swatch = match item.swatch {
-            Swatch::Line(_) | Swatch::Dashed(_) | Swatch::Child(_) => 3 * self.swatch_size(),
+            Swatch::Line(_) | Swatch::Dashed(_) | Swatch::Child(_) | Swatch::Thin(_) => {
+                3 * self.swatch_size()
+            }
             Swatch::Ramp(_) => 5 * self.swatch_size(),
             Swatch::Ring(_) | Swatch::Cross(_) => self.swatch_size() + 4 * self.gi(),
             _ => self.swatch_size(),
@@ -314,6 +318,16 @@ fn draw_swatch(canvas: &mut Canvas, style: Style, swatch: Swatch, x: i64, cy: i6
                 filled,
             );
             s
+        }
+        Swatch::Thin(c) => {
+            let w = 3 * s;
+            let mut pb = PathBuilder::new();
+            pb.move_to(x as f32 + 1.0, cy as f32);
+            pb.line_to((x + w) as f32 - 1.0, cy as f32);
+            if let Some(path) = pb.finish() {
+                canvas.stroke_path(&path, c, 160, 0.8 * style.line_width());
+            }
+            w
         }
         Swatch::Control => {
             let r = style.marker_radius();

@@ -259,7 +259,10 @@ pub(super) fn draw_episode_figure(
         }
     }
     if !super::targets::sight_lines(episode).is_empty() {
-        entries.push((Swatch::Dashed(palette::SIGHT), "measured target".to_owned()));
+        entries.push((
+            Swatch::Thin(palette::SIGHT),
+            "a station's measurement of a target".to_owned(),
+        ));
     }
     if origin {
         entries.push((Swatch::Origin, "world origin (0, 0)".to_owned()));

@@ -30,6 +30,10 @@ use self::smooth::Marginals;
 use super::model::Model;
 use super::script::{Event, Role, Script, ScriptVar};
 
+/// Gauss–Newton stops when no estimate moves by more than this, metres (or
+/// radians): a micrometre, a thousandth of the instrument's noise.
+pub const CONVERGED_M: f64 = 1e-6;
+
 /// Why a network cannot be solved.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Error)]
 pub enum NetworkError {
@@ -311,7 +315,7 @@ impl Network {
                 last = last.max(d.amax());
             }
             self.elim = elim;
-            if last < 1e-9 {
+            if last < CONVERGED_M {
                 break;
             }
         }
