@@ -218,6 +218,14 @@ impl Header<'_> {
     }
 }
 
+/// A legend swatch's horizontal stroke, `w` pixels wide from `x`, on row `cy`.
+fn swatch_stroke(x: i64, w: i64, cy: i64) -> Option<tiny_skia::Path> {
+    let mut pb = PathBuilder::new();
+    pb.move_to(x as f32 + 1.0, cy as f32);
+    pb.line_to((x + w) as f32 - 1.0, cy as f32);
+    pb.finish()
+}
+
 /// Draws a legend swatch with its left edge at `x`, centred on row `cy`; returns its width.
 fn draw_swatch(canvas: &mut Canvas, style: Style, swatch: Swatch, x: i64, cy: i64) -> i64 {
     let s = style.swatch_size();
@@ -242,10 +250,7 @@ fn draw_swatch(canvas: &mut Canvas, style: Style, swatch: Swatch, x: i64, cy: i6
         }
         Swatch::Dashed(c) => {
             let w = 3 * s;
-            let mut pb = PathBuilder::new();
-            pb.move_to(x as f32 + 1.0, cy as f32);
-            pb.line_to((x + w) as f32 - 1.0, cy as f32);
-            if let Some(path) = pb.finish() {
+            if let Some(path) = swatch_stroke(x, w, cy) {
                 canvas.stroke_dashed(&path, c, 255, 1.5, 5.0 * style.g as f32);
             }
             w
@@ -294,10 +299,7 @@ fn draw_swatch(canvas: &mut Canvas, style: Style, swatch: Swatch, x: i64, cy: i6
         }
         Swatch::Child(look) => {
             let w = 3 * s;
-            let mut pb = PathBuilder::new();
-            pb.move_to(x as f32 + 1.0, cy as f32);
-            pb.line_to((x + w) as f32 - 1.0, cy as f32);
-            if let Some(path) = pb.finish() {
+            if let Some(path) = swatch_stroke(x, w, cy) {
                 look.stroke(canvas, style, &path);
             }
             look.draw_mark(canvas, style, x as f32 + w as f32 / 2.0, cy as f32);
@@ -321,10 +323,7 @@ fn draw_swatch(canvas: &mut Canvas, style: Style, swatch: Swatch, x: i64, cy: i6
         }
         Swatch::Thin(c) => {
             let w = 3 * s;
-            let mut pb = PathBuilder::new();
-            pb.move_to(x as f32 + 1.0, cy as f32);
-            pb.line_to((x + w) as f32 - 1.0, cy as f32);
-            if let Some(path) = pb.finish() {
+            if let Some(path) = swatch_stroke(x, w, cy) {
                 canvas.stroke_path(&path, c, 160, 0.8 * style.line_width());
             }
             w

@@ -93,7 +93,7 @@ pub fn batch_station_covariance(
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use crate::accuracy::{Chain, Instrument, Model};
     use crate::config::InstrumentConfig;
@@ -123,23 +123,28 @@ mod tests {
         })
     }
 
+    /// The widest angle between two of `points` seen from `s`, radians.
+    pub(crate) fn spread(s: Point, points: &[Point]) -> f64 {
+        let b: Vec<f64> = points
+            .iter()
+            .map(|k| (k.y - s.y).atan2(k.x - s.x))
+            .collect();
+        let mut best: f64 = 0.0;
+        for (i, x) in b.iter().enumerate() {
+            for y in &b[i + 1..] {
+                let d = (x - y).abs() % std::f64::consts::TAU;
+                best = best.max(d.min(std::f64::consts::TAU - d));
+            }
+        }
+        best
+    }
+
     /// A network a survey would measure: every link at least 1.5 m long (no child
     /// on top of a station), and from every station some two children at least
     /// 5° apart (children in line with a station leave its pose nearly
     /// undetermined, and both adjustments then agree only to the rounding of an
     /// ill-conditioned system).
     fn well_posed(start: Point, cycles: &[CycleGeometry]) -> bool {
-        let spread = |s: Point, kids: &[Point]| {
-            let b: Vec<f64> = kids.iter().map(|k| (k.y - s.y).atan2(k.x - s.x)).collect();
-            let mut best: f64 = 0.0;
-            for (i, x) in b.iter().enumerate() {
-                for y in &b[i + 1..] {
-                    let d = (x - y).abs() % std::f64::consts::TAU;
-                    best = best.max(d.min(std::f64::consts::TAU - d));
-                }
-            }
-            best
-        };
         let min = 5f64.to_radians();
         let mut from = start;
         for c in cycles {

@@ -287,12 +287,7 @@ impl Chain {
                 self.points[i] = Some(self.model.point(c));
             }
         }
-        self.enter_controls(sighted);
-        let known: Vec<usize> = sighted
-            .iter()
-            .copied()
-            .filter(|&t| self.measured(t))
-            .collect();
+        let known = self.enter_sighted(sighted);
         self.resect(self.model.station(to, 0.0), &known)?;
         self.forward_new(sighted);
         Ok(self.pose())
@@ -327,15 +322,21 @@ impl Chain {
                     .is_some_and(|x| x.slot.is_none() && x.given.control_sigma.is_none())
             })
             .collect();
-        self.enter_controls(sighted);
-        let known: Vec<usize> = sighted
-            .iter()
-            .copied()
-            .filter(|&t| self.measured(t))
-            .collect();
+        let known = self.enter_sighted(sighted);
         self.update_here(&known)?;
         self.forward_new(&new);
         Ok(())
+    }
+
+    /// The control points in `sighted` enter the joint state ([`Self::enter_controls`]);
+    /// returns the targets of `sighted` in it (measured before, or control).
+    fn enter_sighted(&mut self, sighted: &[usize]) -> Vec<usize> {
+        self.enter_controls(sighted);
+        sighted
+            .iter()
+            .copied()
+            .filter(|&t| self.measured(t))
+            .collect()
     }
 
     /// Control points in `sighted` not in the joint state yet enter it with their

@@ -170,6 +170,27 @@ fn run_rng(seed: u64, run: usize) -> ChaCha8Rng {
     ChaCha8Rng::seed_from_u64(seed ^ (run as u64).wrapping_mul(0x9e37_79b9_7f4a_7c15))
 }
 
+/// The chain's covariance of the last station of `cycles` from the origin
+/// (two children), and `runs` Monte Carlo runs of the same chain.
+#[cfg(test)]
+pub(crate) fn analytic_and_simulated(
+    model: Model,
+    cycles: &[super::geometry::CycleGeometry],
+    runs: usize,
+    seed: u64,
+) -> (PoseCovariance, MonteCarlo) {
+    let start = crate::geom::Point::new(0.0, 0.0);
+    let mut chain = super::Chain::new(model, start, 2);
+    for c in cycles {
+        chain.cycle(c.to, &c.children, &c.moved).unwrap();
+    }
+    let net = NetworkGeometry::chain(start, cycles.to_vec());
+    (
+        chain.pose(),
+        monte_carlo(&model, &net, runs, seed, false).unwrap(),
+    )
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -256,7 +277,7 @@ mod tests {
 #[cfg(test)]
 mod stay_tests {
     use super::*;
-    use crate::accuracy::{Chain, CycleGeometry, Instrument};
+    use crate::accuracy::{CycleGeometry, Instrument};
     use crate::config::InstrumentConfig;
     use crate::geom::Point;
 
@@ -283,20 +304,7 @@ mod stay_tests {
     fn monte_carlo_agrees_when_children_stay() {
         let model = Model::new(Instrument::from_config(&InstrumentConfig::default()));
         let cycles = leapfrog(12);
-        let start = Point::new(0.0, 0.0);
-        let mut chain = Chain::new(model, start, 2);
-        for c in &cycles {
-            chain.cycle(c.to, &c.children, &c.moved).unwrap();
-        }
-        let a = chain.pose();
-        let mc = monte_carlo(
-            &model,
-            &NetworkGeometry::chain(start, cycles.clone()),
-            4000,
-            3,
-            false,
-        )
-        .unwrap();
+        let (a, mc) = analytic_and_simulated(model, &cycles, 4000, 3);
         let e = mc.covariance.last().unwrap();
         let ratio = (e.xx + e.yy) / (a.xx + a.yy);
         assert!(
@@ -310,7 +318,7 @@ mod stay_tests {
 #[cfg(test)]
 mod long_chain_tests {
     use super::*;
-    use crate::accuracy::{Chain, CycleGeometry, Instrument};
+    use crate::accuracy::{CycleGeometry, Instrument};
     use crate::config::InstrumentConfig;
     use crate::geom::Point;
 
@@ -336,20 +344,7 @@ mod long_chain_tests {
                 )
             })
             .collect();
-        let start = Point::new(0.0, 0.0);
-        let mut chain = Chain::new(model, start, 2);
-        for c in &cycles {
-            chain.cycle(c.to, &c.children, &c.moved).unwrap();
-        }
-        let a = chain.pose();
-        let mc = monte_carlo(
-            &model,
-            &NetworkGeometry::chain(start, cycles.clone()),
-            1000,
-            5,
-            false,
-        )
-        .unwrap();
+        let (a, mc) = analytic_and_simulated(model, &cycles, 1000, 5);
         let e = mc.covariance.last().unwrap();
         let ratio = ((e.xx + e.yy) / (a.xx + a.yy)).sqrt();
         // 1000 runs: the standard error of an RMS is about 1/√(2·1000) ≈ 2 %.

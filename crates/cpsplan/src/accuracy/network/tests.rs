@@ -92,17 +92,7 @@ fn network_strategy() -> impl Strategy<Value = (bool, NetworkGeometry)> {
 /// `batch::tests::well_posed`).
 fn well_posed(net: &NetworkGeometry) -> bool {
     let min = 5f64.to_radians();
-    let spread = |s: Point, pts: &[Point]| {
-        let b: Vec<f64> = pts.iter().map(|k| (k.y - s.y).atan2(k.x - s.x)).collect();
-        let mut best: f64 = 0.0;
-        for (i, x) in b.iter().enumerate() {
-            for y in &b[i + 1..] {
-                let d = (x - y).abs() % std::f64::consts::TAU;
-                best = best.max(d.min(std::f64::consts::TAU - d));
-            }
-        }
-        best
-    };
+    let spread = crate::accuracy::batch::tests::spread;
     let near = |a: Point, b: Point| a.distance(b) < 1.5;
     let mut from = net.start;
     for t in &net.at_start {
