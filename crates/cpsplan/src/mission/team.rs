@@ -270,6 +270,12 @@ pub fn execute_move(
     // the best G − γ·E taken.
     let mut planned: Vec<(usize, MovePlan, f64)> = Vec::new();
     let evaluate = (config.parent.gamma > 0.0 || tolerance.is_some()) && chain.is_some();
+    let before = chain.map_or(0.0, |c| c.pose().position_sigma());
+    // Under a tolerance without the error term, the first candidate in the
+    // planner's order whose move keeps the tolerance is taken at once.
+    let first_keeper = |growth: f64| {
+        config.parent.gamma == 0.0 && tolerance.as_ref().is_some_and(|t| before + growth <= t.max)
+    };
     for &index in &order {
         if evaluate && planned.len() >= config.parent.error_candidates {
             break;
@@ -279,6 +285,9 @@ pub fn execute_move(
             Ok(m) if evaluate => {
                 let growth = error_growth(&step, chain, &m).unwrap_or(f64::INFINITY);
                 plan.candidates[index].error_growth_m = Some(growth);
+                if first_keeper(growth) {
+                    return finish(record, index, target, m);
+                }
                 planned.push((index, m, growth));
             }
             Ok(m) => return finish(record, index, target, m),
