@@ -358,13 +358,15 @@ pub struct ExploreArgs {
     pub child_strategy: Option<ChildStrategy>,
     /// Which planner chooses the next scan position: paper (the greedy Eq. 1),
     /// tour (the shortest route through the scan positions that see the
-    /// frontier), or the baselines frontier (ROS explore_lite's nearest frontier)
-    /// and gain (the most new cells, however far).
+    /// frontier), the baselines frontier (ROS explore_lite's nearest frontier)
+    /// and gain (the most new cells, however far), or the yardstick oracle (the
+    /// true gain from the ground truth).
     #[arg(long, value_name = "PLANNER", value_parser = parse_planner,
           help = with_default("Which planner chooses the next scan position: paper (the greedy Eq. 1), tour \
-                               (the shortest route through the scan positions that see the frontier), or the \
+                               (the shortest route through the scan positions that see the frontier), the \
                                baselines frontier (ROS explore_lite's nearest frontier) and gain (the most new \
-                               cells, however far)",
+                               cells, however far), or the yardstick oracle (each scan's true gain, read from \
+                               the ground truth)",
                               defaults().parent.planner.name()))]
     pub planner: Option<Planner>,
     /// The instrument measuring the CPS links (see `cpsplan instruments`).

@@ -704,3 +704,57 @@ fn records_carry_the_bound_and_the_report_shows_pages_and_bound() {
     let page = std::fs::read_to_string(merged.join("report/report.html")).unwrap();
     assert_eq!(page.matches("<option value=").count(), 4, "every episode");
 }
+
+/// An experiment that runs the oracle beside other planners: the report
+/// tabulates each against the oracle of the same map, seed by seed, and the
+/// ratios are those of the records.
+#[test]
+fn the_report_measures_every_planner_against_the_oracle() {
+    let tmp = tempfile::tempdir().unwrap();
+    let spec = tmp.path().join("oracle.toml");
+    std::fs::write(
+        &spec,
+        "name = \"oracle\"\ndescription = \"paper and the oracle\"\nmaps = [\"builtin:site\"]\n\
+         seeds = { from = 0, count = 2 }\nplanners = [\"paper\", \"oracle\"]\n",
+    )
+    .unwrap();
+    let out = tmp.path().join("out");
+    let (spec, out_s) = (spec.to_str().unwrap(), out.to_str().unwrap());
+    run_ok(&["experiment", spec, "--out", out_s, "--quiet"]);
+    run_ok(&["report", out_s, "--quiet"]);
+    let md = std::fs::read_to_string(out.join("report/summary.md")).unwrap();
+    let table = md
+        .split("## Against the oracle")
+        .nth(1)
+        .expect("the oracle's table");
+    let row = table
+        .lines()
+        .find(|l| l.starts_with("| site/paper |"))
+        .expect("the paper planner's row");
+    // Seed by seed, scans to 99 % of the paper planner over the oracle's.
+    let to99 = |r: &Value| {
+        r["outcome"]["scans"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|s| s["coverage"].as_f64().unwrap() >= 0.99)
+            .map(|s| s["scan"].as_f64().unwrap())
+            .unwrap()
+    };
+    let recs: Vec<Value> = records(&out).into_values().collect();
+    let of = |planner: &str, seed: u64| {
+        recs.iter()
+            .find(|r| r["episode"]["planner"] == planner && r["episode"]["seed"] == seed)
+            .map(to99)
+            .unwrap()
+    };
+    let mean = (of("paper", 0) / of("oracle", 0) + of("paper", 1) / of("oracle", 1)) / 2.0;
+    let cells: Vec<&str> = row.split('|').map(str::trim).collect();
+    assert_eq!(cells[2], "2", "{row}");
+    let shown: f64 = cells[5].split(',').next().unwrap().parse().unwrap();
+    assert!((shown - mean).abs() < 0.006, "{row}: mean ratio {mean}");
+    assert!(
+        !table.contains("| site/oracle |"),
+        "the oracle is not measured against itself"
+    );
+}

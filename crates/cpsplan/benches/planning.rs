@@ -159,6 +159,7 @@ fn bench_parent_round(group: &mut BenchmarkGroup<'_, WallTime>, m: &MidEpisode) 
         near: &near,
         frontier: &frontier,
         drivable: &drivable,
+        truth: None,
     };
     group.bench_function("plan_parent_kept_field", |b| {
         b.iter(|| {

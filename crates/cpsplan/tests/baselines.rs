@@ -109,6 +109,53 @@ fn the_gain_baseline_takes_the_candidate_that_sees_most() {
     }
 }
 
+/// The oracle takes, at every step, the eligible candidate of most true gain per
+/// unit of campaign time, its true gain the new free area a scan there does
+/// reveal: checked against the next scan's outcome.
+#[test]
+fn the_oracle_takes_the_most_true_gain_per_unit_of_time_and_sees_what_it_expects() {
+    use cpsplan::parent::oracle_rate;
+    for map in BuiltinMap::ALL {
+        let truth = map.generate(0);
+        let config = config(Planner::Oracle);
+        let mut expected: Option<f64> = None;
+        let mut checked = 0;
+        let episode = run_episode_with(&truth, map.default_start(), &config, |step, knowledge| {
+            let res = knowledge.geometry().resolution;
+            if let Some(e) = expected.take() {
+                let actual = step.outcome.new_free as f64 * res * res;
+                assert!(
+                    (e - actual).abs() < 1e-9,
+                    "{map:?} scan {}: {e} against {actual}",
+                    step.scan
+                );
+                checked += 1;
+            }
+            let plan = &step.plan;
+            let Some(t) = plan.target() else { return };
+            let rate = |c: &cpsplan::parent::Candidate| {
+                oracle_rate(c.true_gain_m2.unwrap(), c.l_m.unwrap(), &config)
+            };
+            let best = plan
+                .candidates
+                .iter()
+                .filter(|c| c.eligible)
+                .map(rate)
+                .fold(f64::NEG_INFINITY, f64::max);
+            assert_eq!(rate(t), best, "{map:?} scan {}", step.scan);
+            assert_eq!(t.oracle_rate, Some(best));
+            expected = t.true_gain_m2;
+        })
+        .expect("the episode runs");
+        assert!(checked >= 10, "{map:?}: {checked} scans checked");
+        assert!(
+            episode.summary.coverage >= 0.99,
+            "{map:?}: coverage {}",
+            episode.summary.coverage
+        );
+    }
+}
+
 /// With children, each move goes to the planner's own choice (the first of its
 /// order of preference) unless no CPS move reaches it: the team scans where the
 /// planner alone would.

@@ -43,6 +43,12 @@ pub fn run(args: &PlanArgs) -> Result<()> {
     if let Some(m) = args.instrument {
         config.instrument.model = m;
     }
+    if config.parent.planner == cpsplan::config::Planner::Oracle {
+        bail!(
+            "the oracle planner knows what each scan would reveal from the ground truth: \
+             it is a yardstick for simulated episodes (`explore`, experiments), not a plan for a real team"
+        );
+    }
     validate(
         &config,
         &[

@@ -210,15 +210,21 @@ pub enum Planner {
     /// A baseline: pure information gain, the candidate of Eq. (1) that would see
     /// the most new cells `S`, however far.
     Gain,
+    /// The yardstick (simulation only): the same candidates and reachability,
+    /// each scan's gain the true free area it would reveal on the ground truth,
+    /// and the candidate of most true gain per metre of travel plus a scan's
+    /// worth of driving ([`crate::parent::oracle_rate`]).
+    Oracle,
 }
 
 impl Planner {
     /// Every planner.
-    pub const ALL: [Planner; 4] = [
+    pub const ALL: [Planner; 5] = [
         Planner::Paper,
         Planner::Tour,
         Planner::Frontier,
         Planner::Gain,
+        Planner::Oracle,
     ];
 
     /// Its name in the configuration and on the command line.
@@ -228,6 +234,7 @@ impl Planner {
             Planner::Tour => "tour",
             Planner::Frontier => "frontier",
             Planner::Gain => "gain",
+            Planner::Oracle => "oracle",
         }
     }
 }

@@ -490,6 +490,7 @@ pub fn run_episode_with(
             near: &near,
             frontier: &frontier,
             drivable: &drivable,
+            truth: Some(&truth),
         };
         let (mut plan, reach, groundwork) = team::plan_round(
             &knowledge,

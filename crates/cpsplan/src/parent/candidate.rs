@@ -76,6 +76,13 @@ pub struct Candidate {
     /// (only for the candidates whose moves were planned).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub error_growth_m: Option<f64>,
+    /// `oracle`: the free area a scan here would truly reveal, m².
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub true_gain_m2: Option<f64>,
+    /// `oracle`: its score, true gain per metre of travel plus a scan's worth of
+    /// driving ([`super::oracle_rate`]), m² per m.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub oracle_rate: Option<f64>,
 }
 
 /// A candidate with no terms yet (`R = 0`, not eligible).
@@ -103,6 +110,8 @@ pub(super) fn new_candidate(
         g: 0.0,
         eligible: false,
         error_growth_m: None,
+        true_gain_m2: None,
+        oracle_rate: None,
     }
 }
 

@@ -30,6 +30,21 @@ pub fn frontier_cells<'a>(
     gain: &'a GainEstimate,
 ) -> impl Iterator<Item = Cell> + 'a {
     let g = knowledge.geometry();
+    band_blocks(knowledge, band_cells, trav, field)
+        .into_iter()
+        .filter(move |&i| gain.worth_at(knowledge, g.cell(i), config.range_cells()))
+        .map(move |i| g.cell(i))
+}
+
+/// Reachable, traversable cells of `band_cells`, one per square metre (the
+/// nearest by travel), nearest first, as cell indices.
+pub fn band_blocks(
+    knowledge: &OccupancyGrid,
+    band_cells: &[usize],
+    trav: &Traversability,
+    field: &DistanceField,
+) -> Vec<usize> {
+    let g = knowledge.geometry();
     let block = (1.0 / g.resolution).round().max(1.0) as usize;
     let mut best: HashMap<(usize, usize), usize> = HashMap::new();
     for &i in band_cells {
@@ -46,9 +61,6 @@ pub fn frontier_cells<'a>(
     let mut order: Vec<usize> = best.into_values().collect();
     order.sort_unstable_by_key(|&i| (field.cost[i], i));
     order
-        .into_iter()
-        .filter(move |&i| gain.worth_at(knowledge, g.cell(i), config.range_cells()))
-        .map(move |i| g.cell(i))
 }
 
 /// Up to `limit` cells of the reachable-frontier search over the band of the

@@ -20,6 +20,8 @@
 //!   (`--planner tour`, beyond the paper).
 //! - [`frontier_goals`]: the nearest-frontier baseline of ROS explore_lite
 //!   (`--planner frontier`); `--planner gain` takes the candidate of largest `S`.
+//! - [`oracle_rate`], [`true_gain_m2`]: the oracle yardstick (`--planner
+//!   oracle`): the true gain per unit of campaign time.
 
 mod band;
 mod border;
@@ -28,6 +30,7 @@ mod fallback;
 mod frontier;
 mod kmeans;
 mod nearest_frontier;
+mod oracle;
 mod planner;
 mod relocation;
 mod samples;
@@ -41,6 +44,7 @@ pub use fallback::{fallback_candidate, frontier_cells, reachable_frontier, CPS_F
 pub use frontier::Frontier;
 pub use kmeans::{kmeans, Clustering};
 pub use nearest_frontier::{frontier_goals, nearest_valid_cell, FrontierGoal};
+pub use oracle::{oracle_rate, true_gain_m2};
 pub use planner::{
     plan_parent, plan_parent_with_field, plan_parent_with_reach, Decision, Kept, ParentPlan,
     ParentReach,

@@ -26,6 +26,7 @@ use super::fallback::frontier_cells;
 use super::frontier::Frontier;
 use super::kmeans::kmeans;
 use super::nearest_frontier::{frontier_goals, nearest_valid_cell};
+use super::oracle;
 use super::samples::{band_area, cluster_count, scatter};
 use super::score::{evaluate, Terms};
 use super::tour::TourRound;
@@ -90,7 +91,8 @@ impl ParentPlan {
     /// The eligible candidates in `planner`'s order of preference, the target
     /// first: by decreasing `G` (`paper`), the tour's stops in order and then by
     /// `G` (`tour`), in the frontiers' cost order (`frontier`: the candidates'
-    /// own order), by decreasing `S` (`gain`); ties to the lower index. A CPS move
+    /// own order), by decreasing `S` (`gain`), by decreasing true gain per unit
+    /// of campaign time (`oracle`); ties to the lower index. A CPS move
     /// that cannot reach the first is tried with the next (`mission`).
     pub fn preference(&self, planner: Planner) -> Vec<usize> {
         let c = &self.candidates;
@@ -105,6 +107,10 @@ impl ParentPlan {
             }),
             Planner::Frontier => {}
             Planner::Gain => order.sort_by_key(|&k| (std::cmp::Reverse(c[k].s_cells), k)),
+            Planner::Oracle => order.sort_by(|&a, &b| {
+                let rate = |k: usize| c[k].oracle_rate.unwrap_or(c[k].g);
+                rate(b).total_cmp(&rate(a)).then(a.cmp(&b))
+            }),
         }
         order
     }
@@ -152,6 +158,9 @@ pub struct Kept<'a> {
     pub frontier: &'a Frontier,
     /// The drivable cells of the knowledge map for robots of the parent's radius.
     pub drivable: &'a Drivable,
+    /// The ground truth (a simulated episode's), for the `oracle` yardstick;
+    /// without it the oracle plans as `paper` does.
+    pub truth: Option<&'a OccupancyGrid>,
 }
 
 /// [`plan_parent_with_reach`] with the state an episode keeps up to date for
@@ -339,6 +348,19 @@ pub fn plan_parent_with_field(
         if c.eligible && best.is_none_or(|(_, b)| gv > b) {
             best = Some((i, gv));
         }
+    }
+    // The oracle scores by the true gain.
+    if let (Planner::Oracle, Some(truth)) = (pc.planner, kept.and_then(|k| k.truth)) {
+        let threshold = gain.threshold_m2();
+        best = oracle::choose(&mut plan.candidates, truth, knowledge, config, threshold)
+            .or_else(|| {
+                let c = oracle::fallback(
+                    knowledge, truth, band_cells, &trav, &field, config, &gain, threshold,
+                )?;
+                plan.candidates.push(c);
+                Some(plan.candidates.len() - 1)
+            })
+            .map(|i| (i, plan.candidates[i].g));
     }
     // The baselines take the first of their own order of preference.
     if matches!(pc.planner, Planner::Frontier | Planner::Gain) {

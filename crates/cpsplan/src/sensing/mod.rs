@@ -22,7 +22,7 @@ mod sight_sweep;
 mod view;
 
 pub use gain::{Gain, GainEstimate, NearField};
-pub use scanner::{expected_gain, scan, seen_walls, ScanOutcome};
+pub use scanner::{expected_gain, scan, seen_walls, true_gain, ScanOutcome};
 pub use shadowcast::visible_cells;
 pub use sight::{sight_clear, target_in_sight, LinkRule, SightField};
 pub use sight_sweep::certain_cells;

@@ -58,6 +58,24 @@ pub fn scan(
     out
 }
 
+/// The true gain of a scan from `at` (the oracle's, simulation only): the cells
+/// Unknown in `knowledge` and Free in `truth` that [`scan`] would reveal.
+pub fn true_gain(
+    truth: &OccupancyGrid,
+    knowledge: &OccupancyGrid,
+    at: Cell,
+    range_cells: f64,
+) -> usize {
+    let (t, k) = (truth.cells(), knowledge.cells());
+    let mut count = 0;
+    sweep(truth, at, range_cells, |i, swept| {
+        if swept && k[i] == CellState::Unknown && t[i] == CellState::Free {
+            count += 1;
+        }
+    });
+    count
+}
+
 /// The cells of `truth` that are not Free and that a scan from `at` with range
 /// `range_cells` sees (the sweep and wall completion of [`scan`]): the walls
 /// the scan's points lie on. Sorted, each once.
@@ -144,6 +162,19 @@ mod tests {
         t.fill_rect(1, 1, 29, 19, CellState::Free);
         t.fill_rect(14, 8, 16, 12, CellState::Occupied);
         t
+    }
+
+    #[test]
+    fn the_true_gain_is_what_a_scan_reveals() {
+        let truth = room();
+        let mut k = OccupancyGrid::filled(*truth.geometry(), CellState::Unknown);
+        for (at, range) in [((3, 10), 100.0), ((25, 15), 8.0), ((20, 3), 30.0)] {
+            let at = Cell::new(at.0, at.1);
+            let expected = true_gain(&truth, &k, at, range);
+            let out = scan(&truth, &mut k, at, range, |_| {});
+            assert_eq!(expected, out.new_free);
+            assert_eq!(true_gain(&truth, &k, at, range), 0);
+        }
     }
 
     #[test]
