@@ -5,7 +5,7 @@ use std::path::PathBuf;
 
 use anyhow::Result;
 use clap::{Args, Parser, Subcommand, ValueEnum};
-use cpsplan::config::{ChildStrategy, InstrumentModel, Planner, Scoring};
+use cpsplan::config::{ChildStrategy, InstrumentModel, Planner, Preset, Scoring};
 use cpsplan::world::builtin::BuiltinMap;
 use cpsplan::{Config, Point};
 
@@ -278,6 +278,11 @@ pub struct PlanArgs {
           help = with_default("How the children's spots are chosen: random, balanced, angle, distance or min-error",
                               defaults().children.strategy.name()))]
     pub child_strategy: Option<ChildStrategy>,
+    /// Start from a preset's choices (paper: the greedy Eq. 1, Eq. 2 with
+    /// alpha_c = beta_c and the paper's stop rule, S >= min_gain_cells alone);
+    /// the config file's keys and the other flags still apply.
+    #[arg(long, value_name = "NAME", value_parser = parse_preset)]
+    pub preset: Option<Preset>,
     /// Which planner chooses the next scan position: paper (the greedy Eq. 1),
     /// tour (the shortest route through the scan positions that see the
     /// frontier), or the baselines frontier (ROS explore_lite's nearest frontier)
@@ -356,6 +361,11 @@ pub struct ExploreArgs {
                                (the spots that minimise the predicted error of the parent's next pose)",
                               defaults().children.strategy.name()))]
     pub child_strategy: Option<ChildStrategy>,
+    /// Start from a preset's choices (paper: the greedy Eq. 1, Eq. 2 with
+    /// alpha_c = beta_c and the paper's stop rule, S >= min_gain_cells alone);
+    /// the config file's keys and the other flags still apply.
+    #[arg(long, value_name = "NAME", value_parser = parse_preset)]
+    pub preset: Option<Preset>,
     /// Which planner chooses the next scan position: paper (the greedy Eq. 1),
     /// tour (the shortest route through the scan positions that see the
     /// frontier), the baselines frontier (ROS explore_lite's nearest frontier)
@@ -578,6 +588,16 @@ fn parse_strategy(s: &str) -> Result<ChildStrategy, String> {
                 "unknown child strategy `{s}` (one of: {})",
                 names.join(", ")
             )
+        })
+}
+
+fn parse_preset(s: &str) -> Result<Preset, String> {
+    Preset::ALL
+        .into_iter()
+        .find(|p| p.name() == s.trim())
+        .ok_or_else(|| {
+            let names: Vec<&str> = Preset::ALL.iter().map(|p| p.name()).collect();
+            format!("unknown preset `{s}` (one of: {})", names.join(", "))
         })
 }
 

@@ -25,7 +25,11 @@ pub fn step_figure_name(n: usize) -> String {
 
 /// Builds the run's configuration: defaults, then the TOML file, then flags.
 pub fn build_config(args: &ExploreArgs) -> Result<Config> {
-    let mut config = read_config(args.config.as_deref())?.config;
+    let file = read_config(args.config.as_deref())?;
+    let mut config = file.config.clone();
+    if let Some(p) = args.preset {
+        p.apply(&mut config, |k| file.sets(k));
+    }
     if let Some(a) = args.alpha {
         config.parent.alpha = a;
     }

@@ -28,6 +28,9 @@ pub fn run(args: &PlanArgs) -> Result<()> {
         );
     }
     config.children.count = args.children.len();
+    if let Some(p) = args.preset {
+        p.apply(&mut config, |k| file.sets(k));
+    }
     if let Some(r) = args.resolution {
         config.resolution = r;
     }

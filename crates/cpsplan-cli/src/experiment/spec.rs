@@ -284,15 +284,18 @@ fn expand(file: ExperimentFile, path: &Path) -> Result<Plan, SpecError> {
         if sets.iter().any(|(n, _)| *n == name) {
             return Err(invalid(format!("two parameter sets are named `{name}`")));
         }
-        let config: Config =
-            merged(&file.base, &keys)
-                .try_into()
-                .map_err(|e: toml::de::Error| {
-                    invalid(format!(
-                        "parameter set `{name}` (with [base]): {}",
-                        one_line(e.message())
-                    ))
-                })?;
+        let table = merged(&file.base, &keys);
+        let mut config: Config = table.clone().try_into().map_err(|e: toml::de::Error| {
+            invalid(format!(
+                "parameter set `{name}` (with [base]): {}",
+                one_line(e.message())
+            ))
+        })?;
+        if let Some(p) = config.preset {
+            let mut set = std::collections::BTreeSet::new();
+            crate::formats::config::collect_keys(&table, "", &mut set);
+            p.apply(&mut config, |k| set.contains(k));
+        }
         sets.push((name, config));
     }
     // Maps with their starts.
@@ -459,6 +462,25 @@ mod tests {
 
     fn plan(text: &str) -> Result<Plan, SpecError> {
         parse_plan(text, Path::new("test.toml"))
+    }
+
+    #[test]
+    fn a_preset_in_base_applies_to_every_set_under_its_own_keys() {
+        let p = plan(
+            "name = \"p\"\nmaps = [\"builtin:site\"]\n[base]\npreset = \"paper\"\n\
+             [[parameters]]\nname = \"as-is\"\n[[parameters]]\nname = \"share\"\nparent.min_gain_share = 0.01\n",
+        )
+        .unwrap();
+        let (a, b) = (&p.episodes[0].config, &p.episodes[1].config);
+        assert_eq!(a.preset, Some(cpsplan::config::Preset::Paper));
+        assert_eq!(
+            (a.parent.min_gain_share, a.parent.calibration_window),
+            (0.0, 0)
+        );
+        assert_eq!(
+            (b.parent.min_gain_share, b.parent.calibration_window),
+            (0.01, 0)
+        );
     }
 
     #[test]

@@ -81,6 +81,10 @@ pub fn parse_config(text: &str, path: &Path) -> Result<ConfigFile, ConfigFileErr
             keys
         })
         .unwrap_or_default();
+    let mut config = config;
+    if let Some(p) = config.preset {
+        p.apply(&mut config, |k| keys.contains(k));
+    }
     Ok(ConfigFile { config, keys })
 }
 
@@ -123,7 +127,7 @@ fn key_at(text: &str, at: usize) -> Option<String> {
 }
 
 /// The dotted paths of every leaf value of `table`.
-fn collect_keys(table: &toml::Table, prefix: &str, out: &mut BTreeSet<String>) {
+pub(crate) fn collect_keys(table: &toml::Table, prefix: &str, out: &mut BTreeSet<String>) {
     for (k, v) in table {
         let key = if prefix.is_empty() {
             k.clone()

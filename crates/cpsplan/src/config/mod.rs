@@ -536,6 +536,71 @@ impl Default for LimitsConfig {
     }
 }
 
+/// A named set of choices a configuration starts from (`preset = "paper"`,
+/// `--preset paper`): its keys take the preset's values unless the
+/// configuration sets them itself ([`Preset::apply`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Preset {
+    /// The paper's choices exactly: the greedy Eq. (1) (`parent.planner =
+    /// "paper"`), Eq. (2) with αc = βc (`children.strategy = "balanced"`) and the
+    /// paper's stop rule, `S ≥ min_gain_cells` alone (`parent.min_gain_m2 = 0`,
+    /// `parent.min_gain_share = 0`, `parent.calibration_window = 0`).
+    Paper,
+}
+
+impl Preset {
+    /// Every preset.
+    pub const ALL: [Preset; 1] = [Preset::Paper];
+
+    /// Its name in configurations and on the command line.
+    pub fn name(self) -> &'static str {
+        match self {
+            Preset::Paper => "paper",
+        }
+    }
+
+    /// The configuration keys the preset sets.
+    pub fn keys(self) -> &'static [&'static str] {
+        match self {
+            Preset::Paper => &[
+                "parent.planner",
+                "children.strategy",
+                "parent.min_gain_m2",
+                "parent.min_gain_share",
+                "parent.calibration_window",
+            ],
+        }
+    }
+
+    /// Gives `config` the preset's value of every key of [`Self::keys`] for which
+    /// `set(key)` is false (the configuration did not set it itself), and
+    /// records the preset.
+    pub fn apply(self, config: &mut Config, set: impl Fn(&str) -> bool) {
+        let keep = |key: &str| set(key);
+        match self {
+            Preset::Paper => {
+                if !keep("parent.planner") {
+                    config.parent.planner = Planner::Paper;
+                }
+                if !keep("children.strategy") {
+                    config.children.strategy = ChildStrategy::Balanced;
+                }
+                if !keep("parent.min_gain_m2") {
+                    config.parent.min_gain_m2 = 0.0;
+                }
+                if !keep("parent.min_gain_share") {
+                    config.parent.min_gain_share = 0.0;
+                }
+                if !keep("parent.calibration_window") {
+                    config.parent.calibration_window = 0;
+                }
+            }
+        }
+        config.preset = Some(self);
+    }
+}
+
 /// All parameters of a run; printed into every run record.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
@@ -567,6 +632,10 @@ pub struct Config {
     /// Targets and control points (absent from records when there are none).
     #[serde(skip_serializing_if = "TargetsConfig::is_unset")]
     pub targets: TargetsConfig,
+    /// The preset the configuration started from (absent when none; its keys
+    /// are already applied, [`Preset::apply`]).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub preset: Option<Preset>,
 }
 
 impl Default for Config {
@@ -585,6 +654,7 @@ impl Default for Config {
             time: TimeConfig::default(),
             limits: LimitsConfig::default(),
             targets: TargetsConfig::default(),
+            preset: None,
         }
     }
 }
@@ -599,6 +669,13 @@ impl InstrumentConfig {
 }
 
 impl Config {
+    /// The configuration of `preset` (the defaults, then the preset's keys).
+    pub fn preset(preset: Preset) -> Self {
+        let mut c = Self::default();
+        preset.apply(&mut c, |_| false);
+        c
+    }
+
     /// Scanner range in cells of the planning grid.
     pub fn range_cells(&self) -> f64 {
         self.scanner.range / self.resolution
@@ -636,6 +713,33 @@ mod tests {
         let e = c.validate().unwrap_err();
         assert_eq!(e.key(), "scanner.range");
         assert!(e.to_string().contains("scanner.range"));
+    }
+
+    #[test]
+    fn the_paper_preset_sets_its_keys_unless_they_are_set() {
+        let paper = Config::preset(Preset::Paper);
+        assert_eq!(paper.preset, Some(Preset::Paper));
+        assert_eq!(paper.parent.planner, Planner::Paper);
+        assert_eq!(paper.children.strategy, ChildStrategy::Balanced);
+        assert_eq!(
+            (
+                paper.parent.min_gain_m2,
+                paper.parent.min_gain_share,
+                paper.parent.calibration_window
+            ),
+            (0.0, 0.0, 0)
+        );
+        let mut c = Config::default();
+        c.parent.planner = Planner::Tour;
+        c.children.strategy = ChildStrategy::MinError;
+        Preset::Paper.apply(&mut c, |k| k == "children.strategy");
+        assert_eq!(c.parent.planner, Planner::Paper);
+        assert_eq!(c.children.strategy, ChildStrategy::MinError);
+        for p in Preset::ALL {
+            let back: Preset = serde_json::from_str(&format!("\"{}\"", p.name())).unwrap();
+            assert_eq!(back, p);
+            assert!(!p.keys().is_empty());
+        }
     }
 
     #[test]
