@@ -148,7 +148,7 @@ fn explore_builtin_site_writes_every_output() {
     );
     assert!((t["scan_h"].as_f64().unwrap() - scans as f64 * 180.0 / 3600.0).abs() < 1e-9);
     assert!(t["measure_h"].as_f64().unwrap() > 0.0 && t["drive_h"].as_f64().unwrap() > 0.0);
-    assert_eq!(s["planner"], "paper");
+    assert_eq!(s["planner"], "tour", "the default planner");
     // Two children by default: every move ran as CPS cycles, some with subgoals.
     assert_eq!(s["child_travel_m"].as_array().unwrap().len(), 2, "{s}");
     assert!(

@@ -518,6 +518,13 @@ fn the_report_draws_every_condition_and_tabulates_it() {
             .find(|l| l.starts_with(&format!("| {condition} | 2 |")))
             .unwrap_or_else(|| panic!("no row of {condition}: {md}"));
         assert!(row.contains("| 4.0 ± 0.0 |"), "4 scans each: {row}");
+        // The medians over the seeds, with their range.
+        let medians = md.split("## Medians over seeds").nth(1).expect("medians");
+        let row = medians
+            .lines()
+            .find(|l| l.starts_with(&format!("| {condition} | 2 |")))
+            .unwrap_or_else(|| panic!("no median row of {condition}: {medians}"));
+        assert!(row.contains("| 4 (4–4) |"), "4 scans each: {row}");
     }
     let csv = std::fs::read_to_string(report.join("summary.csv")).unwrap();
     assert_eq!(csv.lines().count(), 5);
@@ -541,8 +548,8 @@ fn the_report_draws_every_condition_and_tabulates_it() {
     assert_eq!(page.matches("<svg").count(), 10);
     assert_eq!(
         page.matches("<tr>").count(),
-        5,
-        "a header and a row per condition"
+        10,
+        "a header and a row per condition, in the headline and the medians"
     );
     assert!(!page.contains("src=") && !page.contains("href="));
     // The error chart has only the team's line: the parent alone has no CPS chain.
@@ -707,7 +714,8 @@ fn records_carry_the_bound_and_the_report_shows_pages_and_bound() {
 
 /// An experiment that runs the oracle beside other planners: the report
 /// tabulates each against the oracle of the same map, seed by seed, and the
-/// ratios are those of the records.
+/// ratios are those of the records (their median over the seeds); planners
+/// set in parameter sets pair with the oracle's set just the same.
 #[test]
 fn the_report_measures_every_planner_against_the_oracle() {
     let tmp = tempfile::tempdir().unwrap();
@@ -715,7 +723,7 @@ fn the_report_measures_every_planner_against_the_oracle() {
     std::fs::write(
         &spec,
         "name = \"oracle\"\ndescription = \"paper and the oracle\"\nmaps = [\"builtin:site\"]\n\
-         seeds = { from = 0, count = 2 }\nplanners = [\"paper\", \"oracle\"]\n",
+         seeds = { from = 0, count = 3 }\nplanners = [\"paper\", \"oracle\"]\n",
     )
     .unwrap();
     let out = tmp.path().join("out");
@@ -748,13 +756,55 @@ fn the_report_measures_every_planner_against_the_oracle() {
             .map(to99)
             .unwrap()
     };
-    let mean = (of("paper", 0) / of("oracle", 0) + of("paper", 1) / of("oracle", 1)) / 2.0;
+    let mut ratios: Vec<f64> = (0..3).map(|s| of("paper", s) / of("oracle", s)).collect();
+    ratios.sort_by(f64::total_cmp);
     let cells: Vec<&str> = row.split('|').map(str::trim).collect();
-    assert_eq!(cells[2], "2", "{row}");
-    let shown: f64 = cells[5].split(',').next().unwrap().parse().unwrap();
-    assert!((shown - mean).abs() < 0.006, "{row}: mean ratio {mean}");
+    assert_eq!(cells[2], "3", "{row}");
+    let shown: Vec<f64> = cells[5]
+        .split(',')
+        .map(|v| v.trim().parse().unwrap())
+        .collect();
+    assert!(
+        (shown[0] - ratios[1]).abs() < 0.006,
+        "{row}: median {ratios:?}"
+    );
+    assert!(
+        (shown[1] - ratios[2]).abs() < 0.006,
+        "{row}: largest {ratios:?}"
+    );
     assert!(
         !table.contains("| site/oracle |"),
         "the oracle is not measured against itself"
     );
+    // The planners in parameter sets.
+    let spec = tmp.path().join("sets.toml");
+    std::fs::write(
+        &spec,
+        "name = \"sets\"\nmaps = [\"builtin:site\"]\nseeds = { from = 0, count = 1 }\n\
+         [[parameters]]\nname = \"greedy\"\nparent.planner = \"paper\"\n\
+         [[parameters]]\nname = \"truth\"\nparent.planner = \"oracle\"\n",
+    )
+    .unwrap();
+    let out = tmp.path().join("sets");
+    let (spec, out_s) = (spec.to_str().unwrap(), out.to_str().unwrap());
+    run_ok(&["experiment", spec, "--out", out_s, "--quiet"]);
+    run_ok(&["report", out_s, "--quiet"]);
+    let md = std::fs::read_to_string(out.join("report/summary.md")).unwrap();
+    let table = md.split("## Against the oracle").nth(1).expect("the table");
+    let row = table
+        .lines()
+        .find(|l| l.starts_with("| site/greedy |"))
+        .expect("the set's row");
+    let shown: f64 = row
+        .split('|')
+        .nth(5)
+        .unwrap()
+        .split(',')
+        .next()
+        .unwrap()
+        .trim()
+        .parse()
+        .unwrap();
+    let seed0 = of("paper", 0) / of("oracle", 0);
+    assert!((shown - seed0).abs() < 0.006, "{row}: seed 0 {seed0}");
 }

@@ -78,3 +78,76 @@ fn the_paper_preset_gives_the_papers_choices() {
     assert_eq!(bad.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&bad.stderr).contains("unknown preset `fast`"));
 }
+
+/// SHA-256 of each built-in map's `--preset paper` episode.json as recorded
+/// before the defaults changed (the tour with viewpoints and min-error children
+/// became the default), without the lines of the two keys whose defaults
+/// changed and which the paper's planner does not read (`tour_lookahead`, and
+/// `viewpoints`, which did not exist).
+const PAPER_EPISODES: [(&str, &str); 3] = [
+    (
+        "office",
+        "19ffdeecabe37e3b7d3a14d73c728c4d715561cb156ac692594248c92a1e9fda",
+    ),
+    (
+        "site",
+        "2655ea75991ac60b33546cb82209a0e6731f5faeaf5c93ebafeb70d5cf7892be",
+    ),
+    (
+        "tunnel",
+        "9e15ada464e371a637feb302154d97bb96fdadcd84a7560c3f813cc6788bfd8e",
+    ),
+];
+
+/// `--preset paper` reproduces the recorded paper episodes byte for byte
+/// (every step, decision, path and figure), whatever the defaults are; and the
+/// defaults themselves are not the paper's.
+#[test]
+fn the_paper_preset_reproduces_the_recorded_episodes() {
+    use sha2::{Digest, Sha256};
+    let tmp = tempfile::tempdir().unwrap();
+    for (map, expected) in PAPER_EPISODES {
+        let out = tmp.path().join(map);
+        cpsplan()
+            .args([
+                "explore",
+                "-q",
+                "--builtin",
+                map,
+                "--preset",
+                "paper",
+                "--out",
+            ])
+            .arg(&out)
+            .assert()
+            .success();
+        let bytes = std::fs::read(out.join("episode.json")).expect("episode.json");
+        let mut hash = Sha256::new();
+        for line in bytes.split_inclusive(|&b| b == b'\n') {
+            let text = String::from_utf8_lossy(line);
+            if !(text.contains("\"tour_lookahead\": ") || text.contains("\"viewpoints\": ")) {
+                hash.update(line);
+            }
+        }
+        let got: String = hash.finalize().iter().map(|b| format!("{b:02x}")).collect();
+        assert_eq!(got, expected, "{map}: the paper's episode changed");
+    }
+    let out = tmp.path().join("default");
+    cpsplan()
+        .args([
+            "explore",
+            "-q",
+            "--builtin",
+            "site",
+            "--max-scans",
+            "2",
+            "--out",
+        ])
+        .arg(&out)
+        .assert()
+        .success();
+    let c = &summary(&out)["config"];
+    assert_eq!(c["parent"]["planner"], "tour");
+    assert_eq!(c["children"]["strategy"], "min-error");
+    assert_eq!(c["parent"]["viewpoints"], true);
+}

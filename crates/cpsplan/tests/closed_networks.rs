@@ -19,8 +19,19 @@ fn run(map: BuiltinMap, config: &Config) -> Episode {
     .expect("a valid configuration runs")
 }
 
-fn with_targets(max: usize) -> Config {
+/// The scenario these tests were written on: the paper's choices (Eq. 1
+/// greedy, Eq. 2 balanced), whose route runs along the site's southern street
+/// and whose open chain grows fastest.
+fn paper_route() -> Config {
     let mut c = Config::default();
+    c.parent.planner = cpsplan::config::Planner::Paper;
+    c.parent.viewpoints = false;
+    c.children.strategy = cpsplan::config::ChildStrategy::Balanced;
+    c
+}
+
+fn with_targets(max: usize) -> Config {
+    let mut c = paper_route();
     c.targets.place = TargetPlacement::Auto;
     c.targets.max = max;
     c
@@ -90,7 +101,7 @@ fn records_replay(e: &Episode) {
 
 #[test]
 fn targets_left_by_the_team_close_the_network() {
-    let open = run(BuiltinMap::Site, &Config::default());
+    let open = run(BuiltinMap::Site, &paper_route());
     let closed = run(BuiltinMap::Site, &with_targets(30));
     let s = &closed.summary;
     assert!(s.targets_placed >= 1 && s.targets_placed <= 30);
@@ -135,7 +146,7 @@ fn targets_left_by_the_team_close_the_network() {
 #[test]
 fn control_points_hold_a_chain_to_its_coordinates() {
     // Three control points along the site's southern street, known to 5 mm.
-    let mut config = Config::default();
+    let mut config = paper_route();
     config.children.strategy = cpsplan::config::ChildStrategy::MinError;
     config.mission.max_scans = 12;
     let open = run(BuiltinMap::Site, &config);

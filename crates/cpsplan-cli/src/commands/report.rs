@@ -13,6 +13,7 @@ use std::path::PathBuf;
 use anyhow::{bail, Context, Result};
 
 use crate::cli::ReportArgs;
+use crate::experiment::medians::medians_markdown_table;
 use crate::experiment::oracle::oracle_markdown_table;
 use crate::experiment::summary::{
     bound_markdown_table, conditions, csv_table, curve, curve_against, greedy_bound_curve,
@@ -37,12 +38,16 @@ figure{margin:0}figure svg{width:100%;height:auto;border:1px solid #d9e2ec;borde
 /// The colour of the known-map bound's line.
 const BOUND_COLOUR: (u8, u8, u8) = (26, 26, 26);
 
+/// What the table of medians says.
+const MEDIANS_NOTE: &str = "Each condition's median over its finished episodes (seeds), with the \
+least and the most in brackets: the figures by which planners are compared.";
+
 /// What the table against the oracle says.
-const ORACLE_NOTE: &str = "Each condition against the oracle of the same map, start, parameters, \
-children and instrument (`--planner oracle`: the explorer's candidates and reachability, each \
+const ORACLE_NOTE: &str = "Each condition against the oracle of the same map, start, \
+configuration but the planner, and instrument (`--planner oracle`: the explorer's candidates and reachability, each \
 scan's gain the true one, the most true gain per unit of campaign time taken), seed by seed: \
 scans and campaign hours until 99 % of the reachable free space was covered, and their ratio \
-to the oracle's of the same seed (the mean over the seeds, and the largest).";
+to the oracle's of the same seed (medians over the seeds, and the largest ratio).";
 
 /// What the headline table says.
 const HEADLINE_NOTE: &str = "Means over the seeds of each condition (± the standard deviation); \
@@ -309,6 +314,10 @@ pub fn run(args: &ReportArgs) -> Result<()> {
     );
     let rows: Vec<_> = all.iter().map(headline).collect();
     md.push_str(&markdown_table(&rows));
+    let medians_table = medians_markdown_table(&all);
+    md.push_str(&format!(
+        "\n## Medians over seeds\n\n{MEDIANS_NOTE}\n\n{medians_table}"
+    ));
     let bound_table = bound_markdown_table(&rows);
     if let Some(t) = &bound_table {
         md.push_str(&format!(
@@ -334,6 +343,11 @@ pub fn run(args: &ReportArgs) -> Result<()> {
         )),
         table = html_table(&rows),
     );
+    html.push_str(&format!(
+        "\n<h2>Medians over seeds</h2>\n<p>{}</p>\n<div class=\"wide\">{}</div>",
+        escape(MEDIANS_NOTE),
+        html_of_markdown(&medians_table)
+    ));
     if let Some(t) = &oracle_table {
         html.push_str(&format!(
             "\n<h2>Against the oracle</h2>\n<p>{}</p>\n<div class=\"wide\">{}</div>",

@@ -3,6 +3,7 @@
 //! stopped (`--resume`) and a large one splits over machines (`--shard K/N`,
 //! joined again by `cpsplan experiment merge`).
 
+pub mod medians;
 pub mod oracle;
 pub mod record;
 pub mod spec;

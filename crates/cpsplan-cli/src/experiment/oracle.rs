@@ -2,10 +2,12 @@
 //! yardstick): for each condition whose experiment also ran the oracle on the
 //! same map, start, parameters, children and instrument, the scans to 99 % of
 //! the reachable free space and the campaign hours to 99 %, seed by seed over
-//! the oracle's of the same seed.
+//! the oracle's of the same seed: medians over the seeds, and the largest
+//! ratio.
 
 use cpsplan::config::Planner;
 
+use super::medians::Spread;
 use super::record::{EpisodeRecord, Outcome};
 use super::summary::Condition;
 
@@ -21,15 +23,23 @@ fn reached(r: &EpisodeRecord, share: f64) -> Option<(f64, f64)> {
         .map(|s| (s.scan as f64, s.clock_h))
 }
 
-/// Whether `a` and `b` differ in their planner only (and the seed).
+/// Whether `a` and `b` differ in their planner only (and the seed), whether
+/// the experiment set the planner on its `planners` axis or in a parameter set.
 fn same_but_planner(a: &EpisodeRecord, b: &EpisodeRecord) -> bool {
     let (x, y) = (&a.episode, &b.episode);
-    x.map == y.map
-        && x.start == y.start
-        && x.parameters == y.parameters
-        && x.child_strategy == y.child_strategy
-        && x.instrument == y.instrument
+    let mut cx = x.config.clone();
+    cx.parent.planner = y.config.parent.planner;
+    cx.seed = y.config.seed;
+    x.map == y.map && x.start == y.start && x.instrument == y.instrument && cx == y.config
 }
+
+/// The median of `v` (0 for none).
+fn median(v: Vec<f64>) -> f64 {
+    Spread::of(v).map_or(0.0, |s| s.median)
+}
+
+/// The scan and clock at 99 % of a condition's episode and of the oracle's.
+type Pair = ((f64, f64), (f64, f64));
 
 /// One condition against its oracle.
 #[derive(Debug, Clone, PartialEq)]
@@ -38,13 +48,13 @@ pub struct AgainstOracle {
     pub condition: String,
     /// Seeds that both reached 99 %.
     pub paired: usize,
-    /// Mean scans to 99 %, the condition's and the oracle's.
+    /// Median scans to 99 % over the seeds, the condition's and the oracle's.
     pub scans: (f64, f64),
-    /// Per seed, scans to 99 % over the oracle's: mean and largest.
+    /// Per seed, scans to 99 % over the oracle's: median and largest.
     pub scan_ratio: (f64, f64),
-    /// Mean campaign hours to 99 %, the condition's and the oracle's.
+    /// Median campaign hours to 99 %, the condition's and the oracle's.
     pub hours: (f64, f64),
-    /// Per seed, hours to 99 % over the oracle's: mean.
+    /// Per seed, hours to 99 % over the oracle's: median.
     pub hour_ratio: f64,
 }
 
@@ -90,25 +100,18 @@ pub fn against_oracle(conditions: &[Condition<'_>]) -> Vec<AgainstOracle> {
         if pairs.is_empty() {
             continue;
         }
-        let n = pairs.len() as f64;
-        let mean = |v: &mut dyn Iterator<Item = f64>| v.sum::<f64>() / n;
         let ratios: Vec<f64> = pairs.iter().map(|(a, b)| a.0 / b.0.max(1.0)).collect();
+        let of = |f: &dyn Fn(&Pair) -> f64| median(pairs.iter().map(f).collect());
         out.push(AgainstOracle {
             condition: c.label.clone(),
             paired: pairs.len(),
-            scans: (
-                mean(&mut pairs.iter().map(|p| p.0 .0)),
-                mean(&mut pairs.iter().map(|p| p.1 .0)),
-            ),
+            scans: (of(&|p| p.0 .0), of(&|p| p.1 .0)),
             scan_ratio: (
-                mean(&mut ratios.iter().copied()),
+                median(ratios.clone()),
                 ratios.iter().copied().fold(f64::NEG_INFINITY, f64::max),
             ),
-            hours: (
-                mean(&mut pairs.iter().map(|p| p.0 .1)),
-                mean(&mut pairs.iter().map(|p| p.1 .1)),
-            ),
-            hour_ratio: mean(&mut pairs.iter().map(|p| p.0 .1 / p.1 .1.max(1e-9))),
+            hours: (of(&|p| p.0 .1), of(&|p| p.1 .1)),
+            hour_ratio: of(&|p| p.0 .1 / p.1 .1.max(1e-9)),
         });
     }
     out
@@ -121,7 +124,7 @@ pub fn oracle_markdown_table(conditions: &[Condition<'_>]) -> Option<String> {
         return None;
     }
     let mut out = String::from(
-        "| condition | seeds | to 99 % | oracle's | ÷ oracle (mean, most) | hours to 99 % | oracle's | ÷ oracle |\n\
+        "| condition | seeds | to 99 %, median | oracle's | ÷ oracle (median, most) | hours to 99 %, median | oracle's | ÷ oracle, median |\n\
          |---|---:|---:|---:|---:|---:|---:|---:|\n",
     );
     for r in rows {

@@ -7,7 +7,8 @@ use tiny_skia::PathBuilder;
 use super::axes::draw_origin;
 use super::canvas::{fit_text, text_height, text_width, Canvas, Rgb};
 use super::marks::{
-    draw_arrowhead, draw_cross, draw_ellipse, draw_marker, draw_ring, draw_subgoal, ramp,
+    draw_arrowhead, draw_cross, draw_ellipse, draw_marker, draw_ring, draw_square, draw_subgoal,
+    ramp,
 };
 use super::palette;
 use super::team::ChildLook;
@@ -25,6 +26,8 @@ pub(crate) enum Swatch {
     Dot(Rgb),
     /// A small marker (candidates that may not be chosen).
     SmallDot(Rgb),
+    /// A square marker (viewpoint candidates).
+    Square(Rgb),
     /// A marker of colour `.0` in a dark ring (the chosen target).
     Ring(Rgb),
     /// A marker of colour `.0` struck through (a rejected target).
@@ -258,6 +261,11 @@ fn draw_swatch(canvas: &mut Canvas, style: Style, swatch: Swatch, x: i64, cy: i6
         Swatch::Dot(c) => {
             let r = style.marker_radius();
             draw_marker(canvas, x as f32 + s as f32 / 2.0, cy as f32, r, c);
+            s
+        }
+        Swatch::Square(c) => {
+            let r = style.marker_radius() * 0.85;
+            draw_square(canvas, x as f32 + s as f32 / 2.0, cy as f32, r, c);
             s
         }
         Swatch::SmallDot(c) => {

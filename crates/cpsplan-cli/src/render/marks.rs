@@ -82,6 +82,21 @@ pub(crate) fn draw_marker(canvas: &mut Canvas, cx: f32, cy: f32, r: f32, c: Rgb)
     canvas.fill_circle(cx, cy, r, c, 255);
 }
 
+/// A viewpoint candidate's marker: a square of colour `c` and half-width `r`
+/// with the scan marker's white rim and faint outline.
+pub(crate) fn draw_square(canvas: &mut Canvas, cx: f32, cy: f32, r: f32, c: Rgb) {
+    for (grow, colour, alpha) in [
+        (2.5, palette::OCCUPIED, 110),
+        (1.75, Rgb::hex(0xffffff), 255),
+        (0.0, c, 255),
+    ] {
+        let h = r + grow;
+        if let Some(rect) = tiny_skia::Rect::from_xywh(cx - h, cy - h, 2.0 * h, 2.0 * h) {
+            canvas.fill_path(&PathBuilder::from_rect(rect), colour, alpha);
+        }
+    }
+}
+
 /// A filled arrowhead centred at `at`, pointing along the unit vector `dir`.
 pub(crate) fn draw_arrowhead(
     canvas: &mut Canvas,

@@ -104,8 +104,14 @@ pub struct ParentConfig {
     pub calibration_floor: f64,
     /// Which planner chooses the next scan position.
     pub planner: Planner,
-    /// `tour`: the next scan is chosen among this many first stops of the tour.
+    /// `tour`: the next scan is chosen among this many first stops of the tour
+    /// by expected area per scan time and travel (1, the default: the tour's
+    /// first stop).
     pub tour_lookahead: usize,
+    /// Viewpoints (beyond the paper, after FUEL): for every border group, the
+    /// position that sees most of it becomes a candidate beside the band's
+    /// centroids (`parent::viewpoints`).
+    pub viewpoints: bool,
     /// `tour`: the chosen position hill-climbs on the gain estimate in steps of
     /// this many metres, then half (0: off).
     pub refine_step: f64,
@@ -147,8 +153,9 @@ impl Default for ParentConfig {
             gain_scale: 1.0,
             calibration_window: 10,
             calibration_floor: 0.2,
-            planner: Planner::Paper,
-            tour_lookahead: 3,
+            planner: Planner::Tour,
+            tour_lookahead: 1,
+            viewpoints: true,
             refine_step: 1.0,
             min_frontier_cells: 2,
             gamma: 0.0,
@@ -198,11 +205,12 @@ impl TimeConfig {
 #[serde(rename_all = "lowercase")]
 pub enum Planner {
     /// The paper's greedy Eq. (1): the candidate of highest `G`.
-    #[default]
     Paper,
-    /// A global tour over the frontier's candidates (after FUEL, Zhou et al.,
-    /// RA-L 2021): the shortest open route from the parent through every
-    /// candidate worth a scan; the next scan is its first stop.
+    /// The default (chosen by measurement, docs/RESULTS.md): a global tour over
+    /// the frontier's candidates (after FUEL, Zhou et al., RA-L 2021): the
+    /// shortest open route from the parent through every candidate worth a
+    /// scan; the next scan is its first stop.
+    #[default]
     Tour,
     /// A baseline: nearest-frontier exploration with the frontier search and cost
     /// of ROS explore_lite (`parent.frontier_*`; see `parent::frontier_goals`).
@@ -297,7 +305,7 @@ impl Default for ChildrenConfig {
             clearance_cap: 1.0,
             sight_clearance: 0.0,
             marker_radius: 0.1,
-            strategy: ChildStrategy::Balanced,
+            strategy: ChildStrategy::MinError,
             travel_weight: 0.01,
         }
     }
@@ -311,7 +319,6 @@ pub enum ChildStrategy {
     /// (a) Random spots in the AND region, valid for CPS.
     Random,
     /// (b) Eq. (2) with the configured weights (αc = βc by default).
-    #[default]
     Balanced,
     /// (c) Eq. (2) with αc ≫ βc: the angle term decides (βc / 100).
     Angle,
@@ -319,7 +326,9 @@ pub enum ChildStrategy {
     Distance,
     /// (e) The spots, and whether each child stays or moves, that minimise the
     /// predicted covariance of the parent's next pose (the accuracy model), with
-    /// `children.travel_weight` trading child travel against it.
+    /// `children.travel_weight` trading child travel against it. The default
+    /// (chosen by measurement, docs/RESULTS.md).
+    #[default]
     MinError,
 }
 
@@ -569,6 +578,7 @@ impl Preset {
                 "parent.min_gain_m2",
                 "parent.min_gain_share",
                 "parent.calibration_window",
+                "parent.viewpoints",
             ],
         }
     }
@@ -594,6 +604,9 @@ impl Preset {
                 }
                 if !keep("parent.calibration_window") {
                     config.parent.calibration_window = 0;
+                }
+                if !keep("parent.viewpoints") {
+                    config.parent.viewpoints = false;
                 }
             }
         }

@@ -17,7 +17,7 @@ use crate::config::{number, Config, ConfigError, Planner};
 use crate::geom::{Cell, Point};
 use crate::grid::{CellState, Drivable, OccupancyGrid};
 use crate::motion::VoronoiField;
-use crate::parent::{Decision, Frontier, Kept, ParentPlan};
+use crate::parent::{CandidateOrigin, Decision, Frontier, Kept, ParentPlan};
 use crate::sensing::{scan, NearField, ScanOutcome};
 use crate::world::CoverageTracker;
 
@@ -60,6 +60,15 @@ pub enum MissionError {
     },
 }
 
+/// Whether the last step's planned target `index` came from the search of the
+/// band's reachable cells (the round's own candidates expected too little).
+fn is_fallback(steps: &[Step], index: usize) -> bool {
+    steps
+        .last()
+        .and_then(|s| s.plan.candidates.get(index))
+        .is_some_and(|c| c.origin == CandidateOrigin::Fallback)
+}
+
 /// Why a mission ended.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
@@ -69,7 +78,10 @@ pub enum StopReason {
     /// Border is left, but only in fragments smaller than
     /// `parent.min_frontier_cells`.
     FrontierBelowThreshold,
-    /// Border remains, but no reachable position would see anything new.
+    /// Border remains, but no reachable position would see anything new: none
+    /// the parent can drive to, or, when the round's own candidates expected
+    /// too little and only the search of the band's reachable cells found one
+    /// (a `fallback` candidate), none of those the team reaches by CPS cycles.
     NoReachableFrontier,
     /// `mission.max_scans` was reached.
     ScanLimit,
@@ -610,6 +622,9 @@ pub fn run_episode_with(
             (Decision::NoReachableFrontier, _) => break StopReason::NoReachableFrontier,
             (Decision::Target { .. }, _) if at_limit => break StopReason::ScanLimit,
             (Decision::Target { .. }, _) if diminishing => break StopReason::DiminishingReturns,
+            (Decision::Target { index }, None) if is_fallback(&steps, index) => {
+                break StopReason::NoReachableFrontier
+            }
             (Decision::Target { .. }, None) => break StopReason::NoCpsMove,
             (Decision::Target { .. }, Some(moved)) => {
                 let last = steps.last();

@@ -28,6 +28,9 @@ pub enum CandidateOrigin {
     /// The nearest-frontier baseline's goal: the drivable cell nearest to an
     /// explore_lite frontier's centroid (`--planner frontier`).
     Frontier,
+    /// A viewpoint of a border group, chosen for what it sees of the group
+    /// (`parent.viewpoints`; its `cluster_size` is the border cells it sees).
+    Viewpoint,
 }
 
 /// One candidate target of the parent with the terms of Eq. (1).

@@ -36,6 +36,7 @@ mod relocation;
 mod samples;
 mod score;
 mod tour;
+mod viewpoints;
 
 pub use band::band;
 pub use border::{border_cells, significant_border};
@@ -56,3 +57,4 @@ pub use relocation::{
 pub use samples::{band_area, cluster_count, scatter};
 pub use score::{evaluate, Terms};
 pub use tour::{covering_candidates, open_tour, travel_matrix};
+pub use viewpoints::{viewpoints, Viewpoint};

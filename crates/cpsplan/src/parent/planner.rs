@@ -30,6 +30,7 @@ use super::oracle;
 use super::samples::{band_area, cluster_count, scatter};
 use super::score::{evaluate, Terms};
 use super::tour::TourRound;
+use super::viewpoints::viewpoints;
 use crate::config::{Config, Planner};
 use crate::geom::{polyline_length, Cell, Point};
 use crate::grid::path::{shortcut_path, to_world};
@@ -269,6 +270,22 @@ pub fn plan_parent_with_field(
             members[ci].len(),
             &g,
         ));
+    }
+    if pc.viewpoints && pc.planner != Planner::Frontier {
+        // Viewpoints that see into the border's groups, beside the centroids.
+        let cost = |i: usize| field.metres(i).unwrap_or(f64::INFINITY);
+        for v in viewpoints(knowledge, frontier.significant(), range_cells, valid, cost) {
+            if seen_cells.insert(v.cell) {
+                let c = g.cell_center(v.cell);
+                plan.candidates.push(new_candidate(
+                    v.cell,
+                    c,
+                    CandidateOrigin::Viewpoint,
+                    v.sees,
+                    &g,
+                ));
+            }
+        }
     }
     if pc.planner == Planner::Frontier {
         // The baseline's own candidates: explore_lite's frontiers, cheapest first,

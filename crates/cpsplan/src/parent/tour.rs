@@ -75,11 +75,21 @@ impl TourRound<'_> {
             .config
             .time
             .scan_equivalent_m(self.config.children.count);
-        let rate = |node: usize| candidates[stops[node - 1]].gain_m2 / (scan_m + d[0][node]);
+        // Taking stop `a` first costs its travel and what it lengthens the
+        // rest of the tour by.
+        let length = path_length(&d, &order);
+        let cost = |a: usize| {
+            let mut moved = order.clone();
+            let node = moved.remove(a);
+            moved.insert(0, node);
+            d[0][node] + (path_length(&d, &moved) - length).max(0.0)
+        };
+        let rate = |a: usize| candidates[stops[order[a] - 1]].gain_m2 / (scan_m + cost(a));
         let look = pc.tour_lookahead.clamp(1, order.len());
         let pick = (0..look)
-            .max_by(|&a, &b| rate(order[a]).total_cmp(&rate(order[b])).then(b.cmp(&a)))
-            .unwrap_or(0);
+            .map(|a| (a, rate(a)))
+            .max_by(|x, y| x.1.total_cmp(&y.1).then(y.0.cmp(&x.0)))
+            .map_or(0, |(a, _)| a);
         let first = order.remove(pick);
         order.insert(0, first);
         for (rank, &node) in order.iter().enumerate() {

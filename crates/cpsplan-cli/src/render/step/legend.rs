@@ -1,6 +1,8 @@
 //! The legend of a step figure: what each colour, line and mark means, only for
 //! what the step shows.
 
+use cpsplan::parent::CandidateOrigin;
+
 use super::super::chrome::{LegendItem, Swatch};
 use super::super::marks::ramp;
 use super::super::palette;
@@ -81,6 +83,17 @@ pub(super) fn legend<'a>(
     legend.push(item(Swatch::Dot(palette::TRAJECTORY), "parent"));
     if !step.plan.candidates.is_empty() {
         legend.push(item(Swatch::Ramp(&palette::SCORE_RAMP), &texts.ramp));
+    }
+    if step
+        .plan
+        .candidates
+        .iter()
+        .any(|c| c.eligible && c.origin == CandidateOrigin::Viewpoint)
+    {
+        legend.push(item(
+            Swatch::Square(ramp(&palette::SCORE_RAMP, 0.5)),
+            "viewpoint (square)",
+        ));
     }
     if step.plan.candidates.iter().any(|c| !c.eligible) {
         legend.push(item(Swatch::SmallDot(palette::INELIGIBLE), "not eligible"));

@@ -2,6 +2,7 @@
 //! Visibility Graph path, every robot's path, the candidates, the children, the
 //! subgoals and the parent, and their labels.
 
+use cpsplan::parent::CandidateOrigin;
 use cpsplan::Point;
 use tiny_skia::PathBuilder;
 
@@ -9,7 +10,8 @@ use super::super::canvas::{Canvas, Rgb};
 use super::super::chrome::Style;
 use super::super::layout::MapLayout;
 use super::super::marks::{
-    draw_arrow_midway, draw_cross, draw_marker, draw_ring, draw_subgoal, subgoal_radius,
+    draw_arrow_midway, draw_cross, draw_marker, draw_ring, draw_square, draw_subgoal,
+    subgoal_radius,
 };
 use super::super::palette;
 use super::super::placer::{draw_label, label_size, Placer};
@@ -148,7 +150,9 @@ pub(super) fn draw_overlay(
         if !finite((x, y)) {
             continue;
         }
-        if c.eligible {
+        if c.eligible && c.origin == CandidateOrigin::Viewpoint {
+            draw_square(canvas, x, y, r * 0.85, scores.colour(c.g));
+        } else if c.eligible {
             draw_marker(canvas, x, y, r, scores.colour(c.g));
         } else {
             draw_marker(canvas, x, y, r * 0.6, palette::INELIGIBLE);

@@ -1,0 +1,202 @@
+//! Viewpoints that look through openings into unknown space (beyond the paper;
+//! after the viewpoints of FUEL, Zhou et al., RA-L 2021): for every group of the
+//! significant border (8-connected), positions on rings around the group's
+//! centre, kept where the parent can stand and reach, scored by how many of the
+//! group's border cells they see; the best of each group becomes a candidate
+//! beside the band's k-means centroids (`parent.viewpoints`).
+//!
+//! The band's centroids stand within `band_width` of the border and, in a
+//! cluster of 24 m² of band, often beside a door rather than in front of it: a
+//! room is then scanned once from outside and again from inside. A viewpoint is
+//! chosen for what it sees of the opening, from up to [`RADII_M`]'s largest
+//! radius away.
+//!
+//! In: the knowledge map, the significant border, which cells are valid
+//! positions. Out: per group, the best viewpoint's cell and the border cells it
+//! sees.
+
+use std::collections::HashSet;
+
+use rayon::prelude::*;
+
+use super::border::flood_group;
+use crate::geom::Cell;
+use crate::grid::line::segment_clear;
+use crate::grid::{CellState, OccupancyGrid};
+
+/// Radii of the rings around a group's centre, metres.
+pub const RADII_M: [f64; 4] = [1.0, 2.5, 5.0, 8.0];
+
+/// Positions per ring.
+pub const ANGLES: usize = 16;
+
+/// At most this many of a group's border cells (evenly spaced) are tested for
+/// sight.
+pub const SAMPLED_BORDER: usize = 48;
+
+/// Groups smaller than this many border cells get no viewpoint.
+pub const MIN_GROUP: usize = 5;
+
+/// One group's best viewpoint.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Viewpoint {
+    /// Where the parent would stand.
+    pub cell: Cell,
+    /// How many of the group's tested border cells it sees.
+    pub sees: usize,
+    /// How many were tested.
+    pub tested: usize,
+}
+
+/// The best viewpoint of every group of `significant` (border cell indices,
+/// sorted) on `knowledge`, among positions for which `valid(index)` holds
+/// (drivable and reachable), within `range_cells` of the border cells they see;
+/// `cost(index)` orders equals (the nearer first).
+pub fn viewpoints(
+    knowledge: &OccupancyGrid,
+    significant: &[usize],
+    range_cells: f64,
+    valid: impl Fn(usize) -> bool + Sync,
+    cost: impl Fn(usize) -> f64 + Sync,
+) -> Vec<Viewpoint> {
+    let g = *knowledge.geometry();
+    let is_border = |i: usize| significant.binary_search(&i).is_ok();
+    let mut taken: HashSet<usize> = HashSet::new();
+    let mut groups: Vec<Vec<usize>> = Vec::new();
+    let mut group = Vec::new();
+    for &start in significant {
+        if !taken.insert(start) {
+            continue;
+        }
+        flood_group(&g, start, &mut group, |j| is_border(j) && taken.insert(j));
+        if group.len() >= MIN_GROUP {
+            groups.push(group.clone());
+        }
+    }
+    // Each group's search is independent: in parallel, in the groups' order.
+    groups
+        .par_iter()
+        .filter_map(|group| best_of_group(knowledge, group, range_cells, &valid, &cost))
+        .collect()
+}
+
+/// The best viewpoint of one border group (cell indices), if any position
+/// sees any of it.
+fn best_of_group(
+    knowledge: &OccupancyGrid,
+    group: &[usize],
+    range_cells: f64,
+    valid: &impl Fn(usize) -> bool,
+    cost: &impl Fn(usize) -> f64,
+) -> Option<Viewpoint> {
+    let g = *knowledge.geometry();
+    let k = knowledge.cells();
+    let step = group.len().div_ceil(SAMPLED_BORDER).max(1);
+    let tested: Vec<Cell> = group.iter().step_by(step).map(|&i| g.cell(i)).collect();
+    let (cx, cy) = tested
+        .iter()
+        .fold((0.0, 0.0), |(x, y), c| (x + c.x as f64, y + c.y as f64));
+    let (cx, cy) = (cx / tested.len() as f64, cy / tested.len() as f64);
+    // The group's outward normal: toward the Unknown cells beside it.
+    let (mut nx, mut ny) = (0.0f64, 0.0f64);
+    for &i in group {
+        let c = g.cell(i);
+        for (dx, dy) in [(1i64, 0i64), (-1, 0), (0, 1), (0, -1)] {
+            let (x, y) = (c.x as i64 + dx, c.y as i64 + dy);
+            if x >= 0 && y >= 0 && (x as usize) < g.width && (y as usize) < g.height {
+                let j = y as usize * g.width + x as usize;
+                if k[j] == CellState::Unknown {
+                    nx += dx as f64;
+                    ny += dy as f64;
+                }
+            }
+        }
+    }
+    let norm = nx.hypot(ny);
+    let r2 = range_cells * range_cells;
+    // (cells seen, facing in tenths, cost, cell): the most seen, then the
+    // squarest look through the group (toward its normal), then the nearest;
+    // equals keep the smaller ring.
+    let mut best: Option<(usize, i64, f64, Cell)> = None;
+    for r in RADII_M {
+        let rc = r / g.resolution;
+        for a in 0..ANGLES {
+            let t = a as f64 * std::f64::consts::TAU / ANGLES as f64;
+            let (x, y) = (cx + rc * t.cos(), cy + rc * t.sin());
+            if x < 0.0 || y < 0.0 || x >= g.width as f64 || y >= g.height as f64 {
+                continue;
+            }
+            let cell = Cell::new(x as usize, y as usize);
+            let i = g.index(cell);
+            if !valid(i) {
+                continue;
+            }
+            // Counted until it can no longer reach the best's count: such a
+            // position loses whatever the rest of its sight lines give.
+            let need = best.map_or(1, |b| b.0);
+            let mut sees = 0;
+            for (n, b) in tested.iter().enumerate() {
+                if sees + (tested.len() - n) < need {
+                    break;
+                }
+                let (dx, dy) = (b.x as f64 - cell.x as f64, b.y as f64 - cell.y as f64);
+                if dx * dx + dy * dy <= r2
+                    && segment_clear(&g, cell, *b, |j| k[j] != CellState::Occupied)
+                {
+                    sees += 1;
+                }
+            }
+            if sees < need {
+                continue;
+            }
+            let (lx, ly) = (cx - x, cy - y);
+            let facing = if norm > 0.0 {
+                ((lx * nx + ly * ny) / (lx.hypot(ly).max(1e-9) * norm) * 10.0).round() as i64
+            } else {
+                0
+            };
+            let better = match best {
+                None => sees > 0,
+                Some((s, f, c, _)) => {
+                    (sees, facing) > (s, f) || ((sees, facing) == (s, f) && cost(i) < c)
+                }
+            };
+            if better {
+                best = Some((sees, facing, cost(i), cell));
+            }
+        }
+    }
+    best.map(|(sees, _, _, cell)| Viewpoint {
+        cell,
+        sees,
+        tested: tested.len(),
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geom::Point;
+    use crate::grid::GridGeometry;
+
+    /// A known corridor (free) with a closed room behind a door in its wall: the
+    /// room unknown, the door's cells the border.
+    #[test]
+    fn the_viewpoint_of_a_door_looks_through_it() {
+        let g = GridGeometry::new(120, 100, 0.1, Point::default());
+        let mut k = OccupancyGrid::filled(g, CellState::Unknown);
+        // Corridor y 10..30, walls at y 9 and y 30 (with a door at x 55..65).
+        k.fill_rect(0, 10, 120, 30, CellState::Free);
+        k.fill_rect(0, 9, 120, 10, CellState::Occupied);
+        k.fill_rect(0, 30, 120, 31, CellState::Occupied);
+        k.fill_rect(55, 30, 65, 31, CellState::Free);
+        let border: Vec<usize> = (55..65).map(|x| g.index(Cell::new(x, 30))).collect();
+        let valid = |i: usize| k.cells()[i] == CellState::Free && g.cell(i).y < 30;
+        let vps = viewpoints(&k, &border, 200.0, valid, |_| 0.0);
+        assert_eq!(vps.len(), 1);
+        let v = vps[0];
+        // It sees the whole door, from in front of it (not beside it).
+        assert_eq!(v.sees, v.tested);
+        assert!((54..=66).contains(&v.cell.x), "{v:?}");
+    }
+}
