@@ -17,7 +17,7 @@ for scoring in normalized literal; do
     set -- $ab
     for map in office site tunnel; do
       out="$tmp/$scoring-$1-$2-$map"
-      "$bin" explore --builtin "$map" --seed "$seed" --scoring "$scoring" \
+      "$bin" explore --builtin "$map" --seed "$seed" --planner paper --scoring "$scoring" \
         --alpha "$1" --beta "$2" --children 0 --out "$out" --quiet
       python3 - "$out/summary.json" "$scoring" "$1" "$2" "$map" <<'PY'
 import json, sys

@@ -199,4 +199,33 @@ mod tests {
         assert_eq!(v.sees, v.tested);
         assert!((54..=66).contains(&v.cell.x), "{v:?}");
     }
+
+    proptest::proptest! {
+        /// On random partial maps (known free rooms in unknown space, with
+        /// pillars): every viewpoint stands on a valid cell, sees at least one
+        /// of its group's tested border cells and no more than were tested, and
+        /// and tests at most `SAMPLED_BORDER` of them.
+        #[test]
+        fn viewpoints_stand_on_valid_cells_and_see_their_group(
+            rooms in proptest::collection::vec((2usize..50, 2usize..40, 5usize..25, 5usize..20), 1..4),
+            pillars in proptest::collection::vec((0usize..80, 0usize..60), 0..12),
+        ) {
+            let g = GridGeometry::new(80, 60, 0.1, Point::default());
+            let mut k = OccupancyGrid::filled(g, CellState::Unknown);
+            for &(x, y, w, h) in &rooms {
+                k.fill_rect(x, y, (x + w).min(79), (y + h).min(59), CellState::Free);
+            }
+            for &(x, y) in &pillars {
+                k.fill_rect(x, y, (x + 2).min(80), (y + 2).min(60), CellState::Occupied);
+            }
+            let border = super::super::border::border_cells(&k);
+            let valid = |i: usize| k.cells()[i] == CellState::Free;
+            let vps = viewpoints(&k, &border, 200.0, valid, |_| 0.0);
+            for v in &vps {
+                proptest::prop_assert!(valid(g.index(v.cell)), "{v:?}");
+                proptest::prop_assert!(v.sees >= 1 && v.sees <= v.tested, "{v:?}");
+                proptest::prop_assert!(v.tested <= SAMPLED_BORDER, "{v:?}");
+            }
+        }
+    }
 }
