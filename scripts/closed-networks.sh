@@ -12,9 +12,13 @@ cd "$(dirname "$0")/.."
 out=${OUT:-/tmp/cpsplan-closed}
 cargo build --release --quiet
 bin=target/release/cpsplan
+# The paper's planner, as the recorded figures were measured (the defaults
+# since are the tour with viewpoints).
+mkdir -p "$out"
+printf '[parent]\nplanner = "paper"\nviewpoints = false\n' > "$out/planner.toml"
 run() { # name map-args... -- extra-args...
   local name=$1; shift
-  "$bin" explore "$@" --out "$out/$name" --quiet --max-scans 5000 2>/dev/null
+  "$bin" explore --config "$out/planner.toml" "$@" --out "$out/$name" --quiet --max-scans 5000 2>/dev/null
   python3 - "$out/$name/summary.json" "$name" <<'PY'
 import json, sys
 s = json.load(open(sys.argv[1]))
