@@ -4,7 +4,7 @@
 //! compares planners (a mean of a few seeds hides a campaign that went wrong).
 
 use super::record::Outcome;
-use super::summary::Condition;
+use super::summary::{median, Condition};
 
 /// A median with its spread over the seeds.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -23,17 +23,12 @@ impl Spread {
         if values.is_empty() {
             return None;
         }
-        values.sort_by(f64::total_cmp);
-        let n = values.len();
-        let median = if n % 2 == 1 {
-            values[n / 2]
-        } else {
-            (values[n / 2 - 1] + values[n / 2]) / 2.0
-        };
+        // Sorted by the median.
+        let median = median(&mut values);
         Some(Spread {
             median,
             min: values[0],
-            max: values[n - 1],
+            max: values[values.len() - 1],
         })
     }
 

@@ -102,13 +102,10 @@ fn best_of_group(
     for &i in group {
         let c = g.cell(i);
         for (dx, dy) in [(1i64, 0i64), (-1, 0), (0, 1), (0, -1)] {
-            let (x, y) = (c.x as i64 + dx, c.y as i64 + dy);
-            if x >= 0 && y >= 0 && (x as usize) < g.width && (y as usize) < g.height {
-                let j = y as usize * g.width + x as usize;
-                if k[j] == CellState::Unknown {
-                    nx += dx as f64;
-                    ny += dy as f64;
-                }
+            let beside = g.checked_cell(c.x as i64 + dx, c.y as i64 + dy);
+            if beside.is_some_and(|n| k[g.index(n)] == CellState::Unknown) {
+                nx += dx as f64;
+                ny += dy as f64;
             }
         }
     }
