@@ -1,0 +1,83 @@
+//! Helpers shared by the experiment and report tests: the binary, a small
+//! experiment file, running it, and reading its records.
+
+#![allow(dead_code)] // each test binary uses its own part
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+use assert_cmd::Command;
+use serde_json::Value;
+
+pub fn cpsplan() -> Command {
+    Command::cargo_bin("cpsplan").expect("binary built")
+}
+
+/// Two maps × two parameter sets (the parent alone; a parent with two children)
+/// × two seeds, a few scans each.
+pub const SMALL: &str = r#"
+name = "small"
+description = "a few scans on two built-in maps"
+maps = ["builtin:site", "builtin:tunnel"]
+seeds = { from = 0, count = 2 }
+
+[base]
+mission.max_scans = 4
+
+[[parameters]]
+name = "alone"
+children.count = 0
+parent.alpha = 0.0
+
+[[parameters]]
+name = "team"
+children.count = 2
+"#;
+
+pub fn write_spec(dir: &Path, text: &str) -> PathBuf {
+    let path = dir.join("small.toml");
+    std::fs::write(&path, text).expect("write the experiment file");
+    path
+}
+
+/// The records of `dir`, by file name, with `wall_ms` taken out.
+pub fn records(dir: &Path) -> BTreeMap<String, Value> {
+    let mut out = BTreeMap::new();
+    for entry in std::fs::read_dir(dir.join("records")).expect("records/") {
+        let path = entry.expect("entry").path();
+        let name = path.file_name().unwrap().to_string_lossy().into_owned();
+        let mut v: Value =
+            serde_json::from_str(&std::fs::read_to_string(&path).expect("read")).expect("JSON");
+        assert!(v["wall_ms"].as_f64().is_some(), "{name} has wall_ms");
+        v.as_object_mut().unwrap().remove("wall_ms");
+        out.insert(name, v);
+    }
+    out
+}
+
+pub fn run(args: &[&str]) -> (bool, String, String) {
+    let out = cpsplan().args(args).output().expect("runs");
+    (
+        out.status.success(),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+pub fn run_ok(args: &[&str]) -> String {
+    let (ok, stdout, stderr) = run(args);
+    assert!(ok, "cpsplan {args:?} failed: {stderr}");
+    stdout
+}
+
+/// A refusal: exit code 2 and one line naming `needle`.
+pub fn refused(args: &[&str], needle: &str) {
+    let out = cpsplan().args(args).output().expect("runs");
+    assert_eq!(out.status.code(), Some(2), "cpsplan {args:?} should fail");
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(stderr.trim().lines().count(), 1, "one line: {stderr}");
+    assert!(
+        stderr.contains(needle),
+        "cpsplan {args:?}: `{needle}` not in {stderr}"
+    );
+}
