@@ -165,18 +165,40 @@ impl Objective {
         let d = m
             .diagonal()
             .map(|x| if x > 0.0 { 1.0 / x.sqrt() } else { 0.0 });
-        let scaled = Matrix3::from_fn(|a, b| m[(a, b)] * d[a] * d[b]);
-        let Some(c) = scaled.cholesky() else {
-            return f64::INFINITY;
-        };
-        let l = c.l();
-        let min_pivot = (0..3).map(|k| l[(k, k)]).fold(f64::INFINITY, f64::min);
-        if min_pivot.is_nan() || min_pivot <= 1e-7 {
+        let s = |a: usize, b: usize| m[(a, b)] * d[a] * d[b];
+        // Cholesky factor of the scaled matrix, written out (the search's hot
+        // loop): a NaN or a pivot under 1e-7 means not safely definite.
+        let l00 = s(0, 0).sqrt();
+        let l10 = s(1, 0) / l00;
+        let l20 = s(2, 0) / l00;
+        let l11 = (s(1, 1) - l10 * l10).sqrt();
+        let l21 = (s(2, 1) - l20 * l10) / l11;
+        let l22 = (s(2, 2) - l20 * l20 - l21 * l21).sqrt();
+        // (`p > 1e-7` is false for a NaN pivot too.)
+        if ![l00, l11, l22].iter().all(|&p| p > 1e-7) {
             return f64::INFINITY;
         }
-        let inv_scaled = c.inverse();
-        let x = Matrix3::from_fn(|a, b| inv_scaled[(a, b)] * d[a] * d[b]);
-        let v = (self.v * x).trace() + self.constant;
+        // L⁻¹ (lower triangular), then the scaled inverse (L⁻¹)ᵀ L⁻¹.
+        let (i00, i11, i22) = (1.0 / l00, 1.0 / l11, 1.0 / l22);
+        let i10 = -l10 * i00 * i11;
+        let i21 = -l21 * i11 * i22;
+        let i20 = -(l20 * i00 + l21 * i10) * i22;
+        let inv = [
+            [
+                i00 * i00 + i10 * i10 + i20 * i20,
+                i10 * i11 + i20 * i21,
+                i20 * i22,
+            ],
+            [0.0, i11 * i11 + i21 * i21, i21 * i22],
+            [0.0, 0.0, i22 * i22],
+        ];
+        let mut v = self.constant;
+        for a in 0..3 {
+            for b in 0..3 {
+                let x = if a <= b { inv[a][b] } else { inv[b][a] };
+                v += self.v[(b, a)] * x * d[a] * d[b];
+            }
+        }
         if v.is_finite() && v >= 0.0 {
             v
         } else {

@@ -20,6 +20,7 @@ mod and_region;
 mod clearance;
 mod cycle;
 mod maps;
+mod pair_search;
 mod params;
 mod placement;
 mod spacing;
@@ -29,10 +30,11 @@ pub use and_region::{and_region, AndRegion, ChildReach};
 pub use clearance::clearances;
 pub use cycle::{place_cycle, CpsCycle, CycleChild, CycleError};
 pub use maps::StepMaps;
+pub use pair_search::SEARCH_GAP;
 pub use params::{target_rule, CycleParams};
 pub use placement::{place_children, Eq2, Placement, Spot, EPS_D, EPS_THETA};
 pub use spacing::apart;
-pub use strategy::{place_min_error, place_random, SEARCH_GAP};
+pub use strategy::{place_min_error, place_random, SPOT_PITCH_M};
 
 #[cfg(test)]
 pub(crate) use cycle::tests::{params as test_params, plan_cycle as test_plan_cycle};

@@ -38,6 +38,24 @@ fn near_segment(q: (f64, f64), s: (f64, f64), e: (f64, f64), r: f64) -> bool {
     cx * cx + cy * cy < r * r
 }
 
+/// Where children of one cycle may stand together ([`apart`]).
+#[derive(Debug, Clone)]
+pub(super) struct Spacing {
+    /// The parent's positions of the cycle.
+    pub(super) parents: Vec<Cell>,
+    /// A child's body radius, cells.
+    pub(super) radius: f64,
+    /// A marker's radius, cells.
+    pub(super) marker: f64,
+}
+
+impl Spacing {
+    /// Whether children at `a` and `b` may stand together.
+    pub(super) fn ok(&self, a: Cell, b: Cell) -> bool {
+        apart(a, b, &self.parents, self.radius, self.marker)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -13,18 +13,13 @@
 //! spots minimise `σ(J) + λ·travel`, where `σ(J)` is the square root of the
 //! [`Objective`] (the next pose's `σx² + σy² + L²·σω²`) for the sum `J` of the
 //! movers' information, `travel` the movers' straight-line distance to their spots
-//! and `λ` the travel weight. One mover: every cell of its region is evaluated.
-//! Two: an exact best-first branch and bound over pairs of k-d tree nodes of the
-//! two regions; a node's bound is a matrix `U ⪰ J(c)` for every cell of the node
-//! (`U = λ_max(Q^{-1/2} J Q^{-1/2})·Q` over the cells, `Q` the node's mean `J`), so
-//! `σ(U_a + U_b) + λ(t_a + t_b)` bounds every pair below (the objective decreases
-//! in `J`); pairs closer than two child radii are skipped. More movers:
-//! coordinate descent from a greedy start (each mover's region evaluated exactly
-//! with the others fixed, until no mover improves), near-optimal but not proven.
+//! and `λ` the travel weight. The search ([`super::pair_search`]) runs on one
+//! spot per [`SPOT_PITCH_M`] square of each AND region (the objective changes
+//! little over such a square, and the search costs the square of the spots it
+//! weighs); the winning spots are then polished at the grid's own resolution,
+//! each mover in turn over the cells around its spot.
 
-use std::cell::OnceCell;
-use std::cmp::Ordering;
-use std::collections::BinaryHeap;
+use std::collections::HashMap;
 
 use nalgebra::Matrix3;
 use rand::RngExt;
@@ -34,58 +29,17 @@ use super::and_region::{and_region, AndRegion, ChildReach};
 use super::clearance::clearances;
 use super::cycle::{CpsCycle, CycleChild};
 use super::maps::StepMaps;
+use super::pair_search::{best_pair, best_single, descend, Gap, Spot, SEARCH_GAP};
 use super::placement::Placement;
-use super::spacing::apart;
+use super::spacing::Spacing;
 use crate::accuracy::{Chain, Objective};
 use crate::geom::Cell;
 use crate::grid::GridGeometry;
-
-/// The ridges tried along a node's weakest direction, as shares of its largest
-/// eigenvalue: any ridge gives a valid bound. Members whose weak directions spread
-/// by an angle δ are bounded with a ridge and an overall scale both of order δ
-/// (the ellipse that holds a fan of directions), so the bound tightens as nodes
-/// shrink; a fixed ridge would leave the scale near 3 however small the node.
-const BOUND_RIDGES: [f64; 4] = [1e-6, 1e-4, 1e-2, 0.1];
-
-/// The pair search stops within this share of the cycle's own contribution to the
-/// predicted σ (what the best pair adds to the floor no placement can remove): a
-/// proven gap, since every pair not examined is bounded below.
-pub const SEARCH_GAP: f64 = 0.02;
-
-/// Pops of the branch and bound after which it returns the best pair found, with
-/// the gap still open (measured in docs/PERFORMANCE.md).
-const MAX_POPS: usize = 5_000;
-
-/// Spots per set of the lattice whose pairs give the search's first incumbent.
-const LATTICE_SPOTS: usize = 300;
 
 /// The AND region of every child of `cycle`, as the cycle was planned.
 fn regions(maps: &StepMaps, cycle: &CpsCycle, reach: &[ChildReach]) -> Vec<AndRegion> {
     let mutual = maps.mutual_view(cycle.parent_from, cycle.parent_to);
     reach.iter().map(|r| and_region(&mutual, r)).collect()
-}
-
-/// Where children of one cycle may stand together ([`apart`]).
-#[derive(Debug, Clone)]
-struct Spacing {
-    parents: Vec<Cell>,
-    radius: f64,
-    marker: f64,
-}
-
-impl Spacing {
-    fn of(maps: &StepMaps, cycle: &CpsCycle) -> Self {
-        let g = maps.knowledge().geometry();
-        Self {
-            parents: vec![cycle.parent_from, cycle.parent_to],
-            radius: maps.params().child_radius / g.resolution,
-            marker: maps.params().marker_radius / g.resolution,
-        }
-    }
-
-    fn ok(&self, a: Cell, b: Cell) -> bool {
-        apart(a, b, &self.parents, self.radius, self.marker)
-    }
 }
 
 /// Strategy (a): every child that moves in `cycle` takes a random spot of its AND
@@ -97,7 +51,7 @@ pub fn place_random(
     rng: &mut ChaCha8Rng,
 ) -> CpsCycle {
     let g = *maps.knowledge().geometry();
-    let spacing = Spacing::of(maps, cycle);
+    let spacing = spacing_of(maps, cycle);
     let regions = regions(maps, cycle, reach);
     let mut out = cycle.clone();
     let mut taken: Vec<Cell> = cycle
@@ -167,14 +121,13 @@ fn fill_angles(cycle: &mut CpsCycle) {
     }
 }
 
-/// One candidate spot of a moving child.
-#[derive(Debug, Clone, Copy)]
-struct Spot {
-    cell: Cell,
-    info: Matrix3<f64>,
-    /// Straight-line distance from the child's cell, metres.
-    travel: f64,
-}
+/// The side of the squares of an AND region of which the `min-error` search
+/// weighs one spot each, metres (the objective changes by well under the search's
+/// gap across one; the polish then works at the grid's resolution).
+pub const SPOT_PITCH_M: f64 = 0.3;
+
+/// Rounds of the polish: each mover in turn takes its best cell around its spot.
+const POLISH_ROUNDS: usize = 4;
 
 /// Strategy (e): the spots, and whether each child stays, that minimise the
 /// predicted error of the parent's next pose plus `travel_weight` (mm of σ per
@@ -188,7 +141,7 @@ pub fn place_min_error(
     travel_weight: f64,
 ) -> Option<CpsCycle> {
     let g = *maps.knowledge().geometry();
-    let spacing = Spacing::of(maps, cycle);
+    let spacing = spacing_of(maps, cycle);
     let regions = regions(maps, cycle, reach);
     let n = cycle.children.len();
     let measured = chain.points();
@@ -199,7 +152,14 @@ pub fn place_min_error(
     let lambda = travel_weight * 1e-3;
     let to = g.cell_center(cycle.parent_to);
     let sighted = chain.in_sight(maps.knowledge(), cycle.parent_to, &maps.params().targets);
-    let mut best: Option<(f64, Vec<usize>, Vec<Cell>, f64)> = None;
+    let pitch = spot_pitch(&g);
+    let lattice: Vec<Vec<u32>> = regions
+        .iter()
+        .map(|r| thinned(&g, &r.cells, pitch))
+        .collect();
+    // A mover's information depends on its cell only (not on who stays).
+    let mut infos: HashMap<u32, Matrix3<f64>> = HashMap::new();
+    let mut best: Option<Choice> = None;
     for mask in 0..(1usize << may_stay.len()) {
         let stayers: Vec<usize> = may_stay
             .iter()
@@ -218,19 +178,20 @@ pub fn place_min_error(
             continue;
         };
         let movers: Vec<usize> = (0..n).filter(|i| !stayers.contains(i)).collect();
+        let stay_cells: Vec<Cell> = stayers.iter().map(|&s| here[s]).collect();
         let spots: Vec<Vec<Spot>> = movers
             .iter()
             .map(|&i| {
-                regions[i]
-                    .cells
+                let mut spot = |j: u32| {
+                    let info = *infos
+                        .entry(j)
+                        .or_insert_with(|| objective.mover_info(g.cell_center(g.cell(j as usize))));
+                    spot_at(&g, j, info, here[i])
+                };
+                lattice[i]
                     .iter()
-                    .map(|&j| g.cell(j as usize))
-                    .filter(|&c| stayers.iter().all(|&s| spacing.ok(c, here[s])))
-                    .map(|c| Spot {
-                        cell: c,
-                        info: objective.mover_info(g.cell_center(c)),
-                        travel: metres(&g, here[i], c),
-                    })
+                    .filter(|&&j| clear_of(&spacing, g.cell(j as usize), &stay_cells))
+                    .map(|&j| spot(j))
                     .collect()
             })
             .collect();
@@ -261,19 +222,27 @@ pub fn place_min_error(
         if !value.is_finite() {
             continue;
         }
-        if best.as_ref().is_none_or(|b| value < b.0) {
+        if best.as_ref().is_none_or(|b| value < b.value) {
             let cells = picks
                 .iter()
                 .enumerate()
                 .map(|(k, &s)| spots[k][s].cell)
                 .collect();
-            best = Some((value, movers.clone(), cells, gap));
+            best = Some(Choice {
+                value,
+                movers,
+                cells,
+                gap,
+                objective,
+                stay_cells,
+            });
         }
     }
-    let (_, movers, cells, gap) = best?;
+    let best = best?;
+    let cells = polish(&best, &regions, &here, &spacing, lambda, pitch, &g);
     let mut out = cycle.clone();
     for (i, child) in out.children.iter_mut().enumerate() {
-        match movers.iter().position(|&m| m == i) {
+        match best.movers.iter().position(|&m| m == i) {
             Some(k) => *child = moved(maps, here[i], cells[k], cycle.parent_to, regions[i].size()),
             None => {
                 *child = CycleChild {
@@ -288,532 +257,197 @@ pub fn place_min_error(
         }
     }
     fill_angles(&mut out);
-    out.search_gap = Some(gap);
+    out.search_gap = Some(best.gap);
     Some(out)
 }
 
-/// The best spot of one mover given the others' information `fixed` and spots
-/// `others` (kept two radii clear of): `(value, index)`.
-fn best_single(
-    spots: &[Spot],
-    fixed: &Matrix3<f64>,
-    lambda: f64,
-    cost: &impl Fn(&Matrix3<f64>) -> f64,
-    others: &[Cell],
-    spacing: &Spacing,
-) -> Option<(f64, usize)> {
-    let mut best: Option<(f64, usize)> = None;
-    for (k, s) in spots.iter().enumerate() {
-        if !others.iter().all(|&o| spacing.ok(s.cell, o)) {
-            continue;
-        }
-        let v = cost(&(fixed + s.info)) + lambda * s.travel;
-        if best.is_none_or(|(b, _)| v < b) {
-            best = Some((v, k));
-        }
-    }
-    best
+/// The best choice of one stay mask: its value, the movers and their spots on the
+/// lattice, the search's proven gap, and what the polish needs.
+struct Choice {
+    value: f64,
+    movers: Vec<usize>,
+    cells: Vec<Cell>,
+    gap: f64,
+    objective: Objective,
+    stay_cells: Vec<Cell>,
 }
 
-/// Coordinate descent for three or more movers: greedy start, then each mover's
-/// best spot with the others fixed, until nothing improves.
-fn descend(
-    spots: &[Vec<Spot>],
-    lambda: f64,
-    cost: &impl Fn(&Matrix3<f64>) -> f64,
-    spacing: &Spacing,
-) -> Option<(f64, Vec<usize>)> {
-    let m = spots.len();
-    let mut pick: Vec<Option<usize>> = vec![None; m];
-    let total = |pick: &[Option<usize>], skip: usize| {
-        let mut j = Matrix3::zeros();
-        let mut cells = Vec::new();
-        let mut travel = 0.0;
-        for (k, p) in pick.iter().enumerate() {
-            if let (Some(p), true) = (p, k != skip) {
-                j += spots[k][*p].info;
-                cells.push(spots[k][*p].cell);
-                travel += spots[k][*p].travel;
-            }
-        }
-        (j, cells, travel)
-    };
-    for k in 0..m {
-        let (j, cells, _) = total(&pick, k);
-        let (_, s) = best_single(&spots[k], &j, lambda, cost, &cells, spacing)?;
-        pick[k] = Some(s);
+/// [`SPOT_PITCH_M`] in cells of `g` (at least one).
+fn spot_pitch(g: &GridGeometry) -> usize {
+    let cells = (SPOT_PITCH_M / g.resolution).round();
+    if cells >= 1.0 {
+        cells as usize
+    } else {
+        1
     }
-    for _round in 0..8 {
+}
+
+/// Where the children of `cycle` may stand together, on the step's maps.
+fn spacing_of(maps: &StepMaps, cycle: &CpsCycle) -> Spacing {
+    let g = maps.knowledge().geometry();
+    Spacing {
+        parents: vec![cycle.parent_from, cycle.parent_to],
+        radius: maps.params().child_radius / g.resolution,
+        marker: maps.params().marker_radius / g.resolution,
+    }
+}
+
+/// One cell per `pitch` × `pitch` square of the grid among `cells`: the member
+/// nearest the square's centre (the lower index on a tie), ascending.
+fn thinned(g: &GridGeometry, cells: &[u32], pitch: usize) -> Vec<u32> {
+    if pitch <= 1 {
+        return cells.to_vec();
+    }
+    let mut nearest: HashMap<(usize, usize), (usize, u32)> = HashMap::new();
+    for &j in cells {
+        let c = g.cell(j as usize);
+        let square = (c.x / pitch, c.y / pitch);
+        // Twice the offset from the square's centre, in cells.
+        let off = |v: usize, s: usize| (2 * v).abs_diff(2 * s * pitch + pitch - 1);
+        let d = off(c.x, square.0).pow(2) + off(c.y, square.1).pow(2);
+        nearest
+            .entry(square)
+            .and_modify(|e| *e = (*e).min((d, j)))
+            .or_insert((d, j));
+    }
+    let mut out: Vec<u32> = nearest.into_values().map(|(_, j)| j).collect();
+    out.sort_unstable();
+    out
+}
+
+/// Whether a mover at `c` stands clear of every child in `others`.
+fn clear_of(spacing: &Spacing, c: Cell, others: &[Cell]) -> bool {
+    others.iter().all(|&o| spacing.ok(c, o))
+}
+
+/// The spot of cell `j` for a child at `from`.
+fn spot_at(g: &GridGeometry, j: u32, info: Matrix3<f64>, from: Cell) -> Spot {
+    let cell = g.cell(j as usize);
+    Spot {
+        cell,
+        info,
+        travel: metres(g, from, cell),
+    }
+}
+
+/// The lattice spots of `choice` polished at the grid's resolution: each mover in
+/// turn takes the best cell of its region within `pitch` cells of its spot, the
+/// others fixed, until none moves (the value never rises: each spot is its own
+/// neighbour).
+fn polish(
+    choice: &Choice,
+    regions: &[AndRegion],
+    here: &[Cell],
+    spacing: &Spacing,
+    lambda: f64,
+    pitch: usize,
+    g: &GridGeometry,
+) -> Vec<Cell> {
+    let mut cells = choice.cells.clone();
+    if pitch <= 1 {
+        return cells;
+    }
+    let objective = &choice.objective;
+    let cost = |j: &Matrix3<f64>| objective.value(j).max(0.0).sqrt();
+    let windows: Vec<Vec<Spot>> = choice
+        .movers
+        .iter()
+        .zip(&cells)
+        .map(|(&i, &c)| {
+            let (x0, y0) = (c.x.saturating_sub(pitch), c.y.saturating_sub(pitch));
+            let (x1, y1) = (
+                (c.x + pitch).min(g.width - 1),
+                (c.y + pitch).min(g.height - 1),
+            );
+            (y0..=y1)
+                .flat_map(|y| (x0..=x1).map(move |x| Cell::new(x, y)))
+                .filter(|&n| regions[i].contains(g.index(n)))
+                .filter(|&n| clear_of(spacing, n, &choice.stay_cells))
+                .map(|n| {
+                    let info = objective.mover_info(g.cell_center(n));
+                    spot_at(g, g.index(n) as u32, info, here[i])
+                })
+                .collect()
+        })
+        .collect();
+    for _ in 0..POLISH_ROUNDS {
         let mut changed = false;
-        for k in 0..m {
-            let (j, cells, _) = total(&pick, k);
-            let (_, s) = best_single(&spots[k], &j, lambda, cost, &cells, spacing)?;
-            if Some(s) != pick[k] {
-                pick[k] = Some(s);
-                changed = true;
+        for k in 0..cells.len() {
+            let mut fixed = Matrix3::zeros();
+            let mut others = Vec::with_capacity(cells.len());
+            for (l, &c) in cells.iter().enumerate() {
+                if l != k {
+                    let at = windows[l].iter().find(|s| s.cell == c);
+                    fixed += at.map_or_else(|| objective.mover_info(g.cell_center(c)), |s| s.info);
+                    others.push(c);
+                }
+            }
+            if let Some((_, s)) = best_single(&windows[k], &fixed, lambda, &cost, &others, spacing)
+            {
+                if windows[k][s].cell != cells[k] {
+                    cells[k] = windows[k][s].cell;
+                    changed = true;
+                }
             }
         }
         if !changed {
             break;
         }
     }
-    let (j, _, travel) = total(&pick, usize::MAX);
-    let picks: Vec<usize> = pick.into_iter().map(|p| p.unwrap_or(0)).collect();
-    Some((cost(&j) + lambda * travel, picks))
-}
-
-/// A node of the k-d tree of one mover's spots: `items[lo..hi]`, a matrix bounding
-/// every spot's information above, the least travel, and its two halves.
-#[derive(Debug, Clone)]
-struct Node {
-    lo: usize,
-    hi: usize,
-    /// Computed when the search first needs it.
-    bound: OnceCell<Matrix3<f64>>,
-    travel: f64,
-    halves: Option<(usize, usize)>,
-}
-
-/// The k-d tree of `spots`: nodes (root first) and the spot order it sorts them in.
-fn tree(spots: &[Spot]) -> (Vec<Node>, Vec<usize>) {
-    let mut order: Vec<usize> = (0..spots.len()).collect();
-    let mut nodes = Vec::with_capacity(2 * spots.len());
-    build(spots, &mut order, 0, spots.len(), &mut nodes);
-    (nodes, order)
-}
-
-fn build(
-    spots: &[Spot],
-    order: &mut [usize],
-    lo: usize,
-    hi: usize,
-    nodes: &mut Vec<Node>,
-) -> usize {
-    let id = nodes.len();
-    nodes.push(Node {
-        lo,
-        hi,
-        bound: OnceCell::new(),
-        travel: spots[order[lo]].travel,
-        halves: None,
-    });
-    if hi - lo > 1 {
-        let (mut x0, mut x1, mut y0, mut y1) = (usize::MAX, 0, usize::MAX, 0);
-        for &k in &order[lo..hi] {
-            let c = spots[k].cell;
-            x0 = x0.min(c.x);
-            x1 = x1.max(c.x);
-            y0 = y0.min(c.y);
-            y1 = y1.max(c.y);
-        }
-        let mid = (lo + hi) / 2;
-        let slice = &mut order[lo..hi];
-        if x1 - x0 >= y1 - y0 {
-            slice.select_nth_unstable_by_key(mid - lo, |&k| (spots[k].cell.x, spots[k].cell.y));
-        } else {
-            slice.select_nth_unstable_by_key(mid - lo, |&k| (spots[k].cell.y, spots[k].cell.x));
-        }
-        let a = build(spots, order, lo, mid, nodes);
-        let b = build(spots, order, mid, hi, nodes);
-        nodes[id].halves = Some((a, b));
-        nodes[id].travel = nodes[a].travel.min(nodes[b].travel);
-    }
-    id
-}
-
-/// A matrix `U ⪰ J` for every `J` of `infos`: the node's mean information, made
-/// definite by a ridge along its weakest direction only (a mover's information has
-/// rank two: adding information in every direction would hide what a partner must
-/// supply), scaled by the largest eigenvalue of each member whitened by it. The
-/// ridge is chosen among a few sizes for the smallest scale.
-fn upper_bound<'a>(infos: impl Iterator<Item = &'a Matrix3<f64>> + Clone) -> Matrix3<f64> {
-    let mut mean = Matrix3::zeros();
-    let mut count = 0.0;
-    for j in infos.clone() {
-        mean += j;
-        count += 1.0;
-    }
-    if count == 0.0 {
-        return mean;
-    }
-    mean /= count;
-    let fallback = || Matrix3::identity() * infos.clone().map(|j| j.trace()).fold(0.0, f64::max);
-    let eig = mean.symmetric_eigen();
-    let (mut big, mut weak) = (0, 0);
-    for k in 0..3 {
-        if eig.eigenvalues[k] > eig.eigenvalues[big] {
-            big = k;
-        }
-        if eig.eigenvalues[k] < eig.eigenvalues[weak] {
-            weak = k;
-        }
-    }
-    let top = eig.eigenvalues[big].max(1e-300);
-    let v = eig.eigenvectors.column(weak).into_owned();
-    // The ridge by a cheap estimate of each whitened member's largest eigenvalue
-    // (Gershgorin's bound); the scale then exactly.
-    let whitener = |ridge: f64| {
-        let q = mean + v * v.transpose() * (ridge * top) + Matrix3::identity() * (1e-15 * top);
-        q.cholesky()
-            .and_then(|c| c.l().try_inverse())
-            .map(|li| (q, li))
-    };
-    let mut chosen: Option<(f64, Matrix3<f64>, Matrix3<f64>)> = None;
-    for ridge in BOUND_RIDGES {
-        let Some((q, li)) = whitener(ridge) else {
-            continue;
-        };
-        let rough = infos
-            .clone()
-            .map(|j| gershgorin(&(li * j * li.transpose())))
-            .fold(0.0, f64::max);
-        let score = rough * (1.0 + ridge);
-        if chosen.as_ref().is_none_or(|(b, _, _)| score < *b) {
-            chosen = Some((score, q, li));
-        }
-    }
-    let mut best: Option<(f64, Matrix3<f64>)> = None;
-    if let Some((_, q, li)) = chosen {
-        let scale = infos
-            .clone()
-            .map(|j| max_eigenvalue(&(li * j * li.transpose())))
-            .fold(0.0, f64::max);
-        // A little over, for rounding.
-        best = Some((scale, q * (scale * (1.0 + 1e-9) + 1e-12)));
-    }
-    best.map_or_else(fallback, |(_, u)| u)
-}
-
-/// Gershgorin's bound on the eigenvalues of a symmetric 3×3 matrix.
-fn gershgorin(m: &Matrix3<f64>) -> f64 {
-    (0..3)
-        .map(|i| {
-            m[(i, i)]
-                + (0..3)
-                    .filter(|&j| j != i)
-                    .map(|j| m[(i, j)].abs())
-                    .sum::<f64>()
-        })
-        .fold(f64::NEG_INFINITY, f64::max)
-}
-
-/// The largest eigenvalue of a symmetric 3×3 matrix (trigonometric form).
-fn max_eigenvalue(m: &Matrix3<f64>) -> f64 {
-    let p1 = m[(0, 1)].powi(2) + m[(0, 2)].powi(2) + m[(1, 2)].powi(2);
-    let q = m.trace() / 3.0;
-    if p1 <= 1e-300 {
-        return m[(0, 0)].max(m[(1, 1)]).max(m[(2, 2)]);
-    }
-    let p2 = (m[(0, 0)] - q).powi(2) + (m[(1, 1)] - q).powi(2) + (m[(2, 2)] - q).powi(2) + 2.0 * p1;
-    let p = (p2 / 6.0).sqrt();
-    let b = (m - Matrix3::identity() * q) / p;
-    let r = (b.determinant() / 2.0).clamp(-1.0, 1.0);
-    let phi = r.acos() / 3.0;
-    q + 2.0 * p * phi.cos()
-}
-
-/// A pair of nodes in the branch and bound's queue, smallest bound first.
-#[derive(Debug, Clone, Copy, PartialEq)]
-struct Pending {
-    bound: f64,
-    a: usize,
-    b: usize,
-}
-
-impl Eq for Pending {}
-
-impl Ord for Pending {
-    fn cmp(&self, other: &Self) -> Ordering {
-        other
-            .bound
-            .total_cmp(&self.bound)
-            .then_with(|| (other.a, other.b).cmp(&(self.a, self.b)))
-    }
-}
-
-impl PartialOrd for Pending {
-    fn partial_cmp(&self, other: &Self) -> Option<Ordering> {
-        Some(self.cmp(other))
-    }
-}
-
-/// How far from the optimum the pair search may stop: a share of what the best
-/// value found adds to the floor no placement can remove.
-#[derive(Debug, Clone, Copy)]
-struct Gap {
-    floor: f64,
-    share: f64,
-}
-
-impl Gap {
-    /// The allowed gap below a value `v`.
-    fn of(&self, v: f64) -> f64 {
-        (self.share * (v - self.floor)).max(0.0)
-    }
-}
-
-/// The best pair of spots `(value, [index in a, index in b])`, two radii apart,
-/// within `gap` of the exact optimum (exact with a zero share).
-fn best_pair(
-    a: &[Spot],
-    b: &[Spot],
-    lambda: f64,
-    cost: &impl Fn(&Matrix3<f64>) -> f64,
-    spacing: &Spacing,
-    gap: Gap,
-) -> Option<(f64, Vec<usize>, f64)> {
-    let (ta, oa) = tree(a);
-    let (tb, ob) = tree(b);
-    let value =
-        |i: usize, j: usize| cost(&(a[i].info + b[j].info)) + lambda * (a[i].travel + b[j].travel);
-    // An incumbent: every pair of a thinned lattice of both sets, then each
-    // spot's best partner in turn over the full sets.
-    let thin = |n: usize| (n / LATTICE_SPOTS).max(1);
-    let (sa, sb) = (thin(a.len()), thin(b.len()));
-    let mut best: Option<(f64, usize, usize)> = None;
-    for i in (0..a.len()).step_by(sa) {
-        for j in (0..b.len()).step_by(sb) {
-            if spacing.ok(a[i].cell, b[j].cell) {
-                let v = value(i, j);
-                if best.is_none_or(|(bv, _, _)| v < bv) {
-                    best = Some((v, i, j));
-                }
-            }
-        }
-    }
-    if let Some((_, mut i, mut j)) = best {
-        for _ in 0..3 {
-            let Some((_, ii)) = best_single(a, &b[j].info, lambda, cost, &[b[j].cell], spacing)
-            else {
-                break;
-            };
-            i = ii;
-            let Some((_, jj)) = best_single(b, &a[i].info, lambda, cost, &[a[i].cell], spacing)
-            else {
-                break;
-            };
-            j = jj;
-        }
-        let v = value(i, j);
-        if best.is_none_or(|(bv, _, _)| v < bv) {
-            best = Some((v, i, j));
-        }
-    }
-    let node_bound = |t: &[Node], order: &[usize], spots: &[Spot], n: usize| {
-        *t[n]
-            .bound
-            .get_or_init(|| upper_bound(order[t[n].lo..t[n].hi].iter().map(|&k| &spots[k].info)))
-    };
-    let bound = |na: usize, nb: usize| {
-        let u = node_bound(&ta, &oa, a, na) + node_bound(&tb, &ob, b, nb);
-        cost(&u) + lambda * (ta[na].travel + tb[nb].travel)
-    };
-    let mut queue = BinaryHeap::new();
-    queue.push(Pending {
-        bound: bound(0, 0),
-        a: 0,
-        b: 0,
-    });
-    let mut pops = 0;
-    while let Some(p) = queue.pop() {
-        if best.is_some_and(|(bv, _, _)| p.bound >= bv - gap.of(bv)) {
-            break;
-        }
-        pops += 1;
-        if pops > MAX_POPS {
-            break;
-        }
-        let (na, nb) = (&ta[p.a], &tb[p.b]);
-        match (na.halves, nb.halves) {
-            (None, None) => {
-                let (i, j) = (oa[na.lo], ob[nb.lo]);
-                if spacing.ok(a[i].cell, b[j].cell) {
-                    let v = value(i, j);
-                    if best.is_none_or(|(bv, _, _)| v < bv) {
-                        best = Some((v, i, j));
-                    }
-                }
-            }
-            (ha, hb) => {
-                // Split the node with more spots.
-                let split_a = match (ha, hb) {
-                    (Some(_), None) => true,
-                    (None, Some(_)) => false,
-                    _ => na.hi - na.lo >= nb.hi - nb.lo,
-                };
-                let pairs = if split_a {
-                    let (x, y) = ha.expect("split node has halves");
-                    [(x, p.b), (y, p.b)]
-                } else {
-                    let (x, y) = hb.expect("split node has halves");
-                    [(p.a, x), (p.a, y)]
-                };
-                for (x, y) in pairs {
-                    let lb = bound(x, y);
-                    if best.is_none_or(|(bv, _, _)| lb < bv - gap.of(bv)) {
-                        queue.push(Pending {
-                            bound: lb,
-                            a: x,
-                            b: y,
-                        });
-                    }
-                }
-            }
-        }
-    }
-    // The gap still open: the least bound of the pairs not examined.
-    let open = queue.peek().map(|p| p.bound);
-    let proven = match (best, open) {
-        (Some((bv, _, _)), Some(lb)) if pops > MAX_POPS => ((bv - lb) / (bv - gap.floor)).max(0.0),
-        _ => 0.0,
-    };
-    if std::env::var_os("CPSPLAN_DEBUG_BB").is_some() {
-        eprintln!("bb {} x {} pops {pops} gap {proven:.4}", a.len(), b.len());
-        if a.len() * b.len() <= 400_000_000 {
-            let mut ex = f64::INFINITY;
-            for (i, sa) in a.iter().enumerate() {
-                for (j, sb) in b.iter().enumerate() {
-                    if spacing.ok(sa.cell, sb.cell) {
-                        ex = ex.min(value(i, j));
-                    }
-                }
-            }
-            let bv = best.map_or(f64::NAN, |b| b.0);
-            eprintln!(
-                "exhaustive {ex} found {bv} excess {:.6}",
-                (bv - ex) / (ex - gap.floor)
-            );
-        }
-    }
-    best.map(|(v, i, j)| (v, vec![i, j], proven))
+    cells
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::accuracy::{Instrument, Model};
-    use crate::config::InstrumentConfig;
-    use crate::geom::Point;
     use proptest::prelude::*;
-
-    fn spot(objective: &Objective, x: usize, y: usize, from: Point) -> Spot {
-        let c = Cell::new(x, y);
-        let p = Point::new(x as f64 * 0.1 + 0.05, y as f64 * 0.1 + 0.05);
-        Spot {
-            cell: c,
-            info: objective.mover_info(p),
-            travel: p.distance(from),
-        }
-    }
+    use std::collections::HashSet;
 
     proptest! {
-        #![proptest_config(ProptestConfig { cases: 40, ..ProptestConfig::default() })]
-
-        /// The branch and bound finds the pair that exhaustive search finds.
+        /// The lattice keeps exactly one member of every square that has any,
+        /// the one nearest the square's centre.
         #[test]
-        fn branch_and_bound_is_exact(
-            to in (40usize..160, 40usize..160),
-            cells_a in proptest::collection::vec((0usize..200, 0usize..200), 1..60),
-            cells_b in proptest::collection::vec((0usize..200, 0usize..200), 1..60),
-            lambda in proptest::sample::select(vec![0.0, 1e-5, 1e-3]),
+        fn one_cell_per_square_nearest_its_centre(
+            cells in proptest::collection::btree_set(0u32..2_500, 0..400),
+            pitch in 1usize..6,
         ) {
-            let model = Model::new(Instrument::from_config(&InstrumentConfig::default()));
-            let start = Point::new(10.05, 10.05);
-            let mut chain = Chain::new(model, start, 2);
-            chain.cycle(Point::new(5.0, 8.0), &[Point::new(7.0, 14.0), Point::new(12.0, 4.0)], &[true, true]).unwrap();
-            let to = Point::new(to.0 as f64 * 0.1 + 0.05, to.1 as f64 * 0.1 + 0.05);
-            let objective = Objective::new(&chain, to, &[]).unwrap();
-            let near = |&(x, y): &(usize, usize)| {
-                let p = Point::new(x as f64 * 0.1, y as f64 * 0.1);
-                p.distance(to) < 1.5 || p.distance(chain.position()) < 1.5
+            let g = GridGeometry::new(50, 50, 0.1, crate::geom::Point::new(0.0, 0.0));
+            let cells: Vec<u32> = cells.into_iter().collect();
+            let kept = thinned(&g, &cells, pitch);
+            prop_assert!(kept.windows(2).all(|w| w[0] < w[1]));
+            let square = |j: u32| {
+                let c = g.cell(j as usize);
+                (c.x / pitch, c.y / pitch)
             };
-            let a: Vec<Spot> = cells_a.iter().filter(|c| !near(c)).map(|&(x, y)| spot(&objective, x, y, chain.position())).collect();
-            let b: Vec<Spot> = cells_b.iter().filter(|c| !near(c)).map(|&(x, y)| spot(&objective, x, y, chain.position())).collect();
-            prop_assume!(!a.is_empty() && !b.is_empty());
-            let cost = |j: &Matrix3<f64>| objective.value(j).max(0.0).sqrt();
-            let spacing = Spacing { parents: Vec::new(), radius: 2.5, marker: 1.0 };
-            let mut brute: Option<f64> = None;
-            for sa in &a {
-                for sb in &b {
-                    if spacing.ok(sa.cell, sb.cell) {
-                        let v = cost(&(sa.info + sb.info)) + lambda * (sa.travel + sb.travel);
-                        if v.is_finite() && brute.is_none_or(|bv| v < bv) {
-                            brute = Some(v);
-                        }
-                    }
+            let squares: HashSet<_> = cells.iter().map(|&j| square(j)).collect();
+            prop_assert_eq!(kept.len(), squares.len());
+            let centre = |j: u32| {
+                let c = g.cell(j as usize);
+                let (sx, sy) = square(j);
+                let mid = |s: usize| (s * pitch) as f64 + (pitch as f64 - 1.0) / 2.0;
+                (c.x as f64 - mid(sx)).hypot(c.y as f64 - mid(sy))
+            };
+            for &k in &kept {
+                prop_assert!(cells.binary_search(&k).is_ok());
+                for &j in cells.iter().filter(|&&j| square(j) == square(k)) {
+                    prop_assert!(centre(k) <= centre(j) + 1e-12);
                 }
             }
-            let found = best_pair(&a, &b, lambda, &cost, &spacing, Gap { floor: 0.0, share: 0.0 })
-                .filter(|r| r.2 == 0.0)
-                .map(|(v, _, _)| v);
-            match (brute, found) {
-                (Some(x), Some(y)) => prop_assert!((x - y).abs() <= 1e-12 * x.abs().max(1e-9), "{} vs {}", x, y),
-                (None, f) => prop_assert!(f.is_none_or(|v| !v.is_finite())),
-                (Some(x), None) => prop_assert!(false, "missed {}", x),
-            }
-        }
-
-        /// The node bound lies above every member in the Löwner order.
-        #[test]
-        fn node_bounds_dominate(points in proptest::collection::vec((0usize..200, 0usize..200), 1..30)) {
-            let model = Model::new(Instrument::from_config(&InstrumentConfig::default()));
-            let mut chain = Chain::new(model, Point::new(10.05, 10.05), 2);
-            chain.cycle(Point::new(5.0, 8.0), &[Point::new(7.0, 14.0), Point::new(12.0, 4.0)], &[true, true]).unwrap();
-            let objective = Objective::new(&chain, Point::new(9.0, 3.0), &[]).unwrap();
-            let spots: Vec<Spot> = points.iter().map(|&(x, y)| spot(&objective, x, y, chain.position())).collect();
-            let u = upper_bound(spots.iter().map(|s| &s.info));
-            for s in &spots {
-                let d = u - s.info;
-                let e = d.symmetric_eigen();
-                let scale = u.trace().abs().max(1e-300);
-                prop_assert!(e.eigenvalues.min() >= -1e-9 * scale, "{:?}", e.eigenvalues);
-            }
         }
     }
-}
-
-#[cfg(test)]
-mod eig_tests {
-    use super::*;
-    use proptest::prelude::*;
-
-    proptest! {
-        #[test]
-        fn max_eigenvalue_matches_nalgebra(v in proptest::collection::vec(-10.0f64..10.0, 9), scale in -3i32..9) {
-            let a = Matrix3::from_iterator(v.into_iter());
-            let m = (a * a.transpose()) * 10f64.powi(scale);
-            let e = m.symmetric_eigen().eigenvalues.max();
-            let got = max_eigenvalue(&m);
-            prop_assert!((got - e).abs() <= 1e-6 * e.abs().max(1e-300), "{} vs {}", got, e);
-        }
-    }
-}
-
-#[cfg(test)]
-mod bound_debug {
-    use super::*;
-    use crate::accuracy::{Instrument, Model};
-    use crate::config::InstrumentConfig;
-    use crate::geom::Point;
 
     #[test]
-    fn single_member_bound_is_tight() {
-        let model = Model::new(Instrument::from_config(&InstrumentConfig::default()));
-        let mut chain = Chain::new(model, Point::new(10.05, 10.05), 2);
-        chain
-            .cycle(
-                Point::new(5.0, 8.0),
-                &[Point::new(7.0, 14.0), Point::new(12.0, 4.0)],
-                &[true, true],
-            )
-            .unwrap();
-        let objective = Objective::new(&chain, Point::new(9.0, 3.0), &[]).unwrap();
-        let ja = objective.mover_info(Point::new(15.0, 9.0));
-        let jb = objective.mover_info(Point::new(3.0, 12.0));
-        let u = upper_bound([ja].iter());
-        let exact = objective.value(&(ja + jb));
-        let bound = objective.value(&(u + jb));
-        eprintln!("ja {ja} u {u} exact {exact} bound {bound}");
-        assert!(bound / exact > 0.99, "{bound} vs {exact}");
+    fn the_pitch_is_at_least_one_cell() {
+        let at = |res: f64| {
+            spot_pitch(&GridGeometry::new(
+                10,
+                10,
+                res,
+                crate::geom::Point::new(0.0, 0.0),
+            ))
+        };
+        assert_eq!(at(0.1), 3);
+        assert_eq!(at(0.05), 6);
+        assert_eq!(at(1.0), 1);
     }
 }

@@ -323,7 +323,6 @@ pub fn plan_parent_with_field(
                 cells.push(i as u32);
             }
         });
-        cells.sort_unstable();
         (gain, cells)
     };
     let (gains, mut views): (Vec<Gain>, Vec<Vec<u32>>) =

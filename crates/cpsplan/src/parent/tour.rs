@@ -47,7 +47,7 @@ impl TourRound<'_> {
     /// duration counted as the travel it would buy,
     /// [`crate::config::TimeConfig::scan_equivalent_m`]), moves that stop to
     /// the front and refines its position; returns its index. `views[i]`:
-    /// the frontier cells candidate `i` would see, sorted (those of candidates
+    /// the frontier cells candidate `i` would see, in any order (those of candidates
     /// that are not eligible are dropped here).
     pub fn target(&self, candidates: &mut [Candidate], mut views: Vec<Vec<u32>>) -> Option<usize> {
         let g = self.knowledge.geometry();
@@ -162,7 +162,7 @@ impl TourRound<'_> {
 }
 
 /// The candidates that cover the frontier, by lazy greedy over `views` (each
-/// candidate's frontier cells, sorted), as long as a pick adds at least
+/// candidate's frontier cells, in any order), as long as a pick adds at least
 /// `min_cells` (and at least one); indices into `views`.
 pub fn covering_candidates(views: &[Vec<u32>], cells: usize, min_cells: usize) -> Vec<usize> {
     lazy_greedy(views, cells)

@@ -1,0 +1,582 @@
+//! The search behind the `min-error` strategy: the spots of the moving children
+//! that minimise `σ(J) + λ·travel` (see [`super::strategy`]).
+//!
+//! In: each mover's candidate [`Spot`]s (cell, information `J(c)` about the next
+//! pose, travel), the cost of a summed information, and the children's spacing.
+//! Out: the chosen spot of every mover and its value.
+//!
+//! - One mover: every spot evaluated ([`best_single`]).
+//! - Two: an exact best-first branch and bound over pairs of k-d tree nodes of the
+//!   two sets ([`best_pair`]); a node's bound is a matrix `U ⪰ J(c)` for every spot
+//!   of the node (`U = λ_max(Q^{-1/2} J Q^{-1/2})·Q` over the spots, `Q` the node's
+//!   mean `J`), so `σ(U_a + U_b) + λ(t_a + t_b)` bounds every pair below (the
+//!   objective decreases in `J`); pairs closer than two child radii are skipped.
+//! - More: coordinate descent from a greedy start ([`descend`]), near-optimal but
+//!   not proven.
+
+use std::cell::OnceCell;
+use std::cmp::Ordering;
+use std::collections::BinaryHeap;
+
+use nalgebra::Matrix3;
+
+use super::spacing::Spacing;
+use crate::geom::Cell;
+
+/// The ridges tried along a node's weakest direction, as shares of its largest
+/// eigenvalue: any ridge gives a valid bound. Members whose weak directions spread
+/// by an angle δ are bounded with a ridge and an overall scale both of order δ
+/// (the ellipse that holds a fan of directions), so the bound tightens as nodes
+/// shrink; a fixed ridge would leave the scale near 3 however small the node.
+const BOUND_RIDGES: [f64; 4] = [1e-6, 1e-4, 1e-2, 0.1];
+
+/// The pair search stops within this share of the cycle's own contribution to the
+/// predicted σ (what the best pair adds to the floor no placement can remove): a
+/// proven gap, since every pair not examined is bounded below.
+pub const SEARCH_GAP: f64 = 0.02;
+
+/// Pops of the branch and bound after which it returns the best pair found, with
+/// the gap still open (measured in docs/PERFORMANCE.md).
+const MAX_POPS: usize = 5_000;
+
+/// Spots per set of the lattice whose pairs give the search's first incumbent.
+const LATTICE_SPOTS: usize = 100;
+
+/// One candidate spot of a moving child.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct Spot {
+    /// The cell.
+    pub(super) cell: Cell,
+    /// Its information about the next pose.
+    pub(super) info: Matrix3<f64>,
+    /// Straight-line distance from the child's cell, metres.
+    pub(super) travel: f64,
+}
+
+/// The best spot of one mover given the others' information `fixed` and spots
+/// `others` (kept two radii clear of): `(value, index)`.
+pub(super) fn best_single(
+    spots: &[Spot],
+    fixed: &Matrix3<f64>,
+    lambda: f64,
+    cost: &impl Fn(&Matrix3<f64>) -> f64,
+    others: &[Cell],
+    spacing: &Spacing,
+) -> Option<(f64, usize)> {
+    let mut best: Option<(f64, usize)> = None;
+    for (k, s) in spots.iter().enumerate() {
+        if !others.iter().all(|&o| spacing.ok(s.cell, o)) {
+            continue;
+        }
+        let v = cost(&(fixed + s.info)) + lambda * s.travel;
+        if best.is_none_or(|(b, _)| v < b) {
+            best = Some((v, k));
+        }
+    }
+    best
+}
+
+/// Coordinate descent for three or more movers: greedy start, then each mover's
+/// best spot with the others fixed, until nothing improves.
+pub(super) fn descend(
+    spots: &[Vec<Spot>],
+    lambda: f64,
+    cost: &impl Fn(&Matrix3<f64>) -> f64,
+    spacing: &Spacing,
+) -> Option<(f64, Vec<usize>)> {
+    let m = spots.len();
+    let mut pick: Vec<Option<usize>> = vec![None; m];
+    let total = |pick: &[Option<usize>], skip: usize| {
+        let mut j = Matrix3::zeros();
+        let mut cells = Vec::new();
+        let mut travel = 0.0;
+        for (k, p) in pick.iter().enumerate() {
+            if let (Some(p), true) = (p, k != skip) {
+                j += spots[k][*p].info;
+                cells.push(spots[k][*p].cell);
+                travel += spots[k][*p].travel;
+            }
+        }
+        (j, cells, travel)
+    };
+    for k in 0..m {
+        let (j, cells, _) = total(&pick, k);
+        let (_, s) = best_single(&spots[k], &j, lambda, cost, &cells, spacing)?;
+        pick[k] = Some(s);
+    }
+    for _round in 0..8 {
+        let mut changed = false;
+        for k in 0..m {
+            let (j, cells, _) = total(&pick, k);
+            let (_, s) = best_single(&spots[k], &j, lambda, cost, &cells, spacing)?;
+            if Some(s) != pick[k] {
+                pick[k] = Some(s);
+                changed = true;
+            }
+        }
+        if !changed {
+            break;
+        }
+    }
+    let (j, _, travel) = total(&pick, usize::MAX);
+    let picks: Vec<usize> = pick.into_iter().map(|p| p.unwrap_or(0)).collect();
+    Some((cost(&j) + lambda * travel, picks))
+}
+
+/// A node of the k-d tree of one mover's spots: `items[lo..hi]`, a matrix bounding
+/// every spot's information above, the least travel, and its two halves.
+#[derive(Debug, Clone)]
+struct Node {
+    lo: usize,
+    hi: usize,
+    /// Computed when the search first needs it.
+    bound: OnceCell<Matrix3<f64>>,
+    travel: f64,
+    halves: Option<(usize, usize)>,
+}
+
+/// The k-d tree of `spots`: nodes (root first) and the spot order it sorts them in.
+fn tree(spots: &[Spot]) -> (Vec<Node>, Vec<usize>) {
+    let mut order: Vec<usize> = (0..spots.len()).collect();
+    let mut nodes = Vec::with_capacity(2 * spots.len());
+    build(spots, &mut order, 0, spots.len(), &mut nodes);
+    (nodes, order)
+}
+
+fn build(
+    spots: &[Spot],
+    order: &mut [usize],
+    lo: usize,
+    hi: usize,
+    nodes: &mut Vec<Node>,
+) -> usize {
+    let id = nodes.len();
+    nodes.push(Node {
+        lo,
+        hi,
+        bound: OnceCell::new(),
+        travel: spots[order[lo]].travel,
+        halves: None,
+    });
+    if hi - lo > 1 {
+        let (mut x0, mut x1, mut y0, mut y1) = (usize::MAX, 0, usize::MAX, 0);
+        for &k in &order[lo..hi] {
+            let c = spots[k].cell;
+            x0 = x0.min(c.x);
+            x1 = x1.max(c.x);
+            y0 = y0.min(c.y);
+            y1 = y1.max(c.y);
+        }
+        let mid = (lo + hi) / 2;
+        let slice = &mut order[lo..hi];
+        if x1 - x0 >= y1 - y0 {
+            slice.select_nth_unstable_by_key(mid - lo, |&k| (spots[k].cell.x, spots[k].cell.y));
+        } else {
+            slice.select_nth_unstable_by_key(mid - lo, |&k| (spots[k].cell.y, spots[k].cell.x));
+        }
+        let a = build(spots, order, lo, mid, nodes);
+        let b = build(spots, order, mid, hi, nodes);
+        nodes[id].halves = Some((a, b));
+        nodes[id].travel = nodes[a].travel.min(nodes[b].travel);
+    }
+    id
+}
+
+/// A matrix `U ⪰ J` for every `J` of `infos`: the node's mean information, made
+/// definite by a ridge along its weakest direction only (a mover's information has
+/// rank two: adding information in every direction would hide what a partner must
+/// supply), scaled by the largest eigenvalue of each member whitened by it. The
+/// ridge is chosen among a few sizes for the smallest scale.
+fn upper_bound<'a>(infos: impl Iterator<Item = &'a Matrix3<f64>> + Clone) -> Matrix3<f64> {
+    let mut mean = Matrix3::zeros();
+    let mut count = 0.0;
+    for j in infos.clone() {
+        mean += j;
+        count += 1.0;
+    }
+    if count == 0.0 {
+        return mean;
+    }
+    mean /= count;
+    let fallback = || Matrix3::identity() * infos.clone().map(|j| j.trace()).fold(0.0, f64::max);
+    let eig = mean.symmetric_eigen();
+    let (mut big, mut weak) = (0, 0);
+    for k in 0..3 {
+        if eig.eigenvalues[k] > eig.eigenvalues[big] {
+            big = k;
+        }
+        if eig.eigenvalues[k] < eig.eigenvalues[weak] {
+            weak = k;
+        }
+    }
+    let top = eig.eigenvalues[big].max(1e-300);
+    let v = eig.eigenvectors.column(weak).into_owned();
+    // The ridge by a cheap estimate of each whitened member's largest eigenvalue
+    // (Gershgorin's bound); the scale then exactly.
+    let whitener = |ridge: f64| {
+        let q = mean + v * v.transpose() * (ridge * top) + Matrix3::identity() * (1e-15 * top);
+        q.cholesky()
+            .and_then(|c| c.l().try_inverse())
+            .map(|li| (q, li))
+    };
+    let mut chosen: Option<(f64, Matrix3<f64>, Matrix3<f64>)> = None;
+    for ridge in BOUND_RIDGES {
+        let Some((q, li)) = whitener(ridge) else {
+            continue;
+        };
+        let rough = infos
+            .clone()
+            .map(|j| gershgorin(&(li * j * li.transpose())))
+            .fold(0.0, f64::max);
+        let score = rough * (1.0 + ridge);
+        if chosen.as_ref().is_none_or(|(b, _, _)| score < *b) {
+            chosen = Some((score, q, li));
+        }
+    }
+    let mut best: Option<(f64, Matrix3<f64>)> = None;
+    if let Some((_, q, li)) = chosen {
+        let scale = infos
+            .clone()
+            .map(|j| max_eigenvalue(&(li * j * li.transpose())))
+            .fold(0.0, f64::max);
+        // A little over, for rounding.
+        best = Some((scale, q * (scale * (1.0 + 1e-9) + 1e-12)));
+    }
+    best.map_or_else(fallback, |(_, u)| u)
+}
+
+/// Gershgorin's bound on the eigenvalues of a symmetric 3×3 matrix.
+fn gershgorin(m: &Matrix3<f64>) -> f64 {
+    (0..3)
+        .map(|i| {
+            m[(i, i)]
+                + (0..3)
+                    .filter(|&j| j != i)
+                    .map(|j| m[(i, j)].abs())
+                    .sum::<f64>()
+        })
+        .fold(f64::NEG_INFINITY, f64::max)
+}
+
+/// The largest eigenvalue of a symmetric 3×3 matrix (trigonometric form).
+fn max_eigenvalue(m: &Matrix3<f64>) -> f64 {
+    let p1 = m[(0, 1)].powi(2) + m[(0, 2)].powi(2) + m[(1, 2)].powi(2);
+    let q = m.trace() / 3.0;
+    if p1 <= 1e-300 {
+        return m[(0, 0)].max(m[(1, 1)]).max(m[(2, 2)]);
+    }
+    let p2 = (m[(0, 0)] - q).powi(2) + (m[(1, 1)] - q).powi(2) + (m[(2, 2)] - q).powi(2) + 2.0 * p1;
+    let p = (p2 / 6.0).sqrt();
+    let b = (m - Matrix3::identity() * q) / p;
+    let r = (b.determinant() / 2.0).clamp(-1.0, 1.0);
+    let phi = r.acos() / 3.0;
+    q + 2.0 * p * phi.cos()
+}
+
+/// A pair of nodes in the branch and bound's queue, smallest bound first.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Pending {
+    bound: f64,
+    a: usize,
+    b: usize,
+}
+
+impl Eq for Pending {}
+
+impl Ord for Pending {
+    fn cmp(&self, other: &Self) -> Ordering {
+        other
+            .bound
+            .total_cmp(&self.bound)
+            .then_with(|| (other.a, other.b).cmp(&(self.a, self.b)))
+    }
+}
+
+impl PartialOrd for Pending {
+    fn partial_cmp(&self, other: &Self) -> Option<Ordering> {
+        Some(self.cmp(other))
+    }
+}
+
+/// How far from the optimum the pair search may stop: a share of what the best
+/// value found adds to the floor no placement can remove.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct Gap {
+    /// The floor no placement can remove.
+    pub(super) floor: f64,
+    /// The share of the value above the floor.
+    pub(super) share: f64,
+}
+
+impl Gap {
+    /// The allowed gap below a value `v`.
+    fn of(&self, v: f64) -> f64 {
+        (self.share * (v - self.floor)).max(0.0)
+    }
+}
+
+/// The best pair of spots `(value, [index in a, index in b])`, two radii apart,
+/// within `gap` of the exact optimum (exact with a zero share).
+pub(super) fn best_pair(
+    a: &[Spot],
+    b: &[Spot],
+    lambda: f64,
+    cost: &impl Fn(&Matrix3<f64>) -> f64,
+    spacing: &Spacing,
+    gap: Gap,
+) -> Option<(f64, Vec<usize>, f64)> {
+    let (ta, oa) = tree(a);
+    let (tb, ob) = tree(b);
+    let value =
+        |i: usize, j: usize| cost(&(a[i].info + b[j].info)) + lambda * (a[i].travel + b[j].travel);
+    // An incumbent: every pair of a thinned lattice of both sets, then each
+    // spot's best partner in turn over the full sets.
+    let thin = |n: usize| (n / LATTICE_SPOTS).max(1);
+    let (sa, sb) = (thin(a.len()), thin(b.len()));
+    let mut best: Option<(f64, usize, usize)> = None;
+    for i in (0..a.len()).step_by(sa) {
+        for j in (0..b.len()).step_by(sb) {
+            if spacing.ok(a[i].cell, b[j].cell) {
+                let v = value(i, j);
+                if best.is_none_or(|(bv, _, _)| v < bv) {
+                    best = Some((v, i, j));
+                }
+            }
+        }
+    }
+    if let Some((_, mut i, mut j)) = best {
+        for _ in 0..3 {
+            let Some((_, ii)) = best_single(a, &b[j].info, lambda, cost, &[b[j].cell], spacing)
+            else {
+                break;
+            };
+            i = ii;
+            let Some((_, jj)) = best_single(b, &a[i].info, lambda, cost, &[a[i].cell], spacing)
+            else {
+                break;
+            };
+            j = jj;
+        }
+        let v = value(i, j);
+        if best.is_none_or(|(bv, _, _)| v < bv) {
+            best = Some((v, i, j));
+        }
+    }
+    let node_bound = |t: &[Node], order: &[usize], spots: &[Spot], n: usize| {
+        *t[n]
+            .bound
+            .get_or_init(|| upper_bound(order[t[n].lo..t[n].hi].iter().map(|&k| &spots[k].info)))
+    };
+    let bound = |na: usize, nb: usize| {
+        let u = node_bound(&ta, &oa, a, na) + node_bound(&tb, &ob, b, nb);
+        cost(&u) + lambda * (ta[na].travel + tb[nb].travel)
+    };
+    let mut queue = BinaryHeap::new();
+    queue.push(Pending {
+        bound: bound(0, 0),
+        a: 0,
+        b: 0,
+    });
+    let mut pops = 0;
+    while let Some(p) = queue.pop() {
+        if best.is_some_and(|(bv, _, _)| p.bound >= bv - gap.of(bv)) {
+            break;
+        }
+        pops += 1;
+        if pops > MAX_POPS {
+            break;
+        }
+        let (na, nb) = (&ta[p.a], &tb[p.b]);
+        match (na.halves, nb.halves) {
+            (None, None) => {
+                let (i, j) = (oa[na.lo], ob[nb.lo]);
+                if spacing.ok(a[i].cell, b[j].cell) {
+                    let v = value(i, j);
+                    if best.is_none_or(|(bv, _, _)| v < bv) {
+                        best = Some((v, i, j));
+                    }
+                }
+            }
+            (ha, hb) => {
+                // Split the node with more spots.
+                let split_a = match (ha, hb) {
+                    (Some(_), None) => true,
+                    (None, Some(_)) => false,
+                    _ => na.hi - na.lo >= nb.hi - nb.lo,
+                };
+                let pairs = if split_a {
+                    let (x, y) = ha.expect("split node has halves");
+                    [(x, p.b), (y, p.b)]
+                } else {
+                    let (x, y) = hb.expect("split node has halves");
+                    [(p.a, x), (p.a, y)]
+                };
+                for (x, y) in pairs {
+                    let lb = bound(x, y);
+                    if best.is_none_or(|(bv, _, _)| lb < bv - gap.of(bv)) {
+                        queue.push(Pending {
+                            bound: lb,
+                            a: x,
+                            b: y,
+                        });
+                    }
+                }
+            }
+        }
+    }
+    // The gap still open: the least bound of the pairs not examined.
+    let open = queue.peek().map(|p| p.bound);
+    let proven = match (best, open) {
+        (Some((bv, _, _)), Some(lb)) if pops > MAX_POPS => ((bv - lb) / (bv - gap.floor)).max(0.0),
+        _ => 0.0,
+    };
+    if std::env::var_os("CPSPLAN_DEBUG_BB").is_some() {
+        eprintln!("bb {} x {} pops {pops} gap {proven:.4}", a.len(), b.len());
+        if a.len() * b.len() <= 400_000_000 {
+            let mut ex = f64::INFINITY;
+            for (i, sa) in a.iter().enumerate() {
+                for (j, sb) in b.iter().enumerate() {
+                    if spacing.ok(sa.cell, sb.cell) {
+                        ex = ex.min(value(i, j));
+                    }
+                }
+            }
+            let bv = best.map_or(f64::NAN, |b| b.0);
+            eprintln!(
+                "exhaustive {ex} found {bv} excess {:.6}",
+                (bv - ex) / (ex - gap.floor)
+            );
+        }
+    }
+    best.map(|(v, i, j)| (v, vec![i, j], proven))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::accuracy::{Chain, Instrument, Model, Objective};
+    use crate::config::InstrumentConfig;
+    use crate::geom::Point;
+    use proptest::prelude::*;
+
+    fn spot(objective: &Objective, x: usize, y: usize, from: Point) -> Spot {
+        let c = Cell::new(x, y);
+        let p = Point::new(x as f64 * 0.1 + 0.05, y as f64 * 0.1 + 0.05);
+        Spot {
+            cell: c,
+            info: objective.mover_info(p),
+            travel: p.distance(from),
+        }
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig { cases: 40, ..ProptestConfig::default() })]
+
+        /// The branch and bound finds the pair that exhaustive search finds.
+        #[test]
+        fn branch_and_bound_is_exact(
+            to in (40usize..160, 40usize..160),
+            cells_a in proptest::collection::vec((0usize..200, 0usize..200), 1..60),
+            cells_b in proptest::collection::vec((0usize..200, 0usize..200), 1..60),
+            lambda in proptest::sample::select(vec![0.0, 1e-5, 1e-3]),
+        ) {
+            let model = Model::new(Instrument::from_config(&InstrumentConfig::default()));
+            let start = Point::new(10.05, 10.05);
+            let mut chain = Chain::new(model, start, 2);
+            chain.cycle(Point::new(5.0, 8.0), &[Point::new(7.0, 14.0), Point::new(12.0, 4.0)], &[true, true]).unwrap();
+            let to = Point::new(to.0 as f64 * 0.1 + 0.05, to.1 as f64 * 0.1 + 0.05);
+            let objective = Objective::new(&chain, to, &[]).unwrap();
+            let near = |&(x, y): &(usize, usize)| {
+                let p = Point::new(x as f64 * 0.1, y as f64 * 0.1);
+                p.distance(to) < 1.5 || p.distance(chain.position()) < 1.5
+            };
+            let a: Vec<Spot> = cells_a.iter().filter(|c| !near(c)).map(|&(x, y)| spot(&objective, x, y, chain.position())).collect();
+            let b: Vec<Spot> = cells_b.iter().filter(|c| !near(c)).map(|&(x, y)| spot(&objective, x, y, chain.position())).collect();
+            prop_assume!(!a.is_empty() && !b.is_empty());
+            let cost = |j: &Matrix3<f64>| objective.value(j).max(0.0).sqrt();
+            let spacing = Spacing { parents: Vec::new(), radius: 2.5, marker: 1.0 };
+            let mut brute: Option<f64> = None;
+            for sa in &a {
+                for sb in &b {
+                    if spacing.ok(sa.cell, sb.cell) {
+                        let v = cost(&(sa.info + sb.info)) + lambda * (sa.travel + sb.travel);
+                        if v.is_finite() && brute.is_none_or(|bv| v < bv) {
+                            brute = Some(v);
+                        }
+                    }
+                }
+            }
+            let found = best_pair(&a, &b, lambda, &cost, &spacing, Gap { floor: 0.0, share: 0.0 })
+                .filter(|r| r.2 == 0.0)
+                .map(|(v, _, _)| v);
+            match (brute, found) {
+                (Some(x), Some(y)) => prop_assert!((x - y).abs() <= 1e-12 * x.abs().max(1e-9), "{} vs {}", x, y),
+                (None, f) => prop_assert!(f.is_none_or(|v| !v.is_finite())),
+                (Some(x), None) => prop_assert!(false, "missed {}", x),
+            }
+        }
+
+        /// The node bound lies above every member in the Löwner order.
+        #[test]
+        fn node_bounds_dominate(points in proptest::collection::vec((0usize..200, 0usize..200), 1..30)) {
+            let model = Model::new(Instrument::from_config(&InstrumentConfig::default()));
+            let mut chain = Chain::new(model, Point::new(10.05, 10.05), 2);
+            chain.cycle(Point::new(5.0, 8.0), &[Point::new(7.0, 14.0), Point::new(12.0, 4.0)], &[true, true]).unwrap();
+            let objective = Objective::new(&chain, Point::new(9.0, 3.0), &[]).unwrap();
+            let spots: Vec<Spot> = points.iter().map(|&(x, y)| spot(&objective, x, y, chain.position())).collect();
+            let u = upper_bound(spots.iter().map(|s| &s.info));
+            for s in &spots {
+                let d = u - s.info;
+                let e = d.symmetric_eigen();
+                let scale = u.trace().abs().max(1e-300);
+                prop_assert!(e.eigenvalues.min() >= -1e-9 * scale, "{:?}", e.eigenvalues);
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod eig_tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    proptest! {
+        #[test]
+        fn max_eigenvalue_matches_nalgebra(v in proptest::collection::vec(-10.0f64..10.0, 9), scale in -3i32..9) {
+            let a = Matrix3::from_iterator(v.into_iter());
+            let m = (a * a.transpose()) * 10f64.powi(scale);
+            let e = m.symmetric_eigen().eigenvalues.max();
+            let got = max_eigenvalue(&m);
+            prop_assert!((got - e).abs() <= 1e-6 * e.abs().max(1e-300), "{} vs {}", got, e);
+        }
+    }
+}
+
+#[cfg(test)]
+mod bound_debug {
+    use super::*;
+    use crate::accuracy::{Chain, Instrument, Model, Objective};
+    use crate::config::InstrumentConfig;
+    use crate::geom::Point;
+
+    #[test]
+    fn single_member_bound_is_tight() {
+        let model = Model::new(Instrument::from_config(&InstrumentConfig::default()));
+        let mut chain = Chain::new(model, Point::new(10.05, 10.05), 2);
+        chain
+            .cycle(
+                Point::new(5.0, 8.0),
+                &[Point::new(7.0, 14.0), Point::new(12.0, 4.0)],
+                &[true, true],
+            )
+            .unwrap();
+        let objective = Objective::new(&chain, Point::new(9.0, 3.0), &[]).unwrap();
+        let ja = objective.mover_info(Point::new(15.0, 9.0));
+        let jb = objective.mover_info(Point::new(3.0, 12.0));
+        let u = upper_bound([ja].iter());
+        let exact = objective.value(&(ja + jb));
+        let bound = objective.value(&(u + jb));
+        eprintln!("ja {ja} u {u} exact {exact} bound {bound}");
+        assert!(bound / exact > 0.99, "{bound} vs {exact}");
+    }
+}
