@@ -4,12 +4,10 @@
 
 use std::path::{Path, PathBuf};
 
-use assert_cmd::Command;
 use serde_json::Value;
 
-fn cpsplan() -> Command {
-    Command::cargo_bin("cpsplan").expect("binary built")
-}
+mod common;
+use common::{cpsplan, summary};
 
 /// The shared real maps (`../shared/maps` beside the project), or `None` after
 /// saying, past the test harness's capture, that `test` is skipped.
@@ -24,11 +22,6 @@ fn shared_maps(test: &str) -> Option<PathBuf> {
         "SKIPPED {test}: needs the shared real maps in ../shared/maps (see README)"
     );
     None
-}
-
-fn summary(dir: &Path) -> Value {
-    let text = std::fs::read_to_string(dir.join("summary.json")).expect("summary.json");
-    serde_json::from_str(&text).expect("valid JSON")
 }
 
 /// Every CPS link of the episode in `dir` (each child's spot to the parent's

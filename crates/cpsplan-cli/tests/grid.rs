@@ -5,14 +5,12 @@
 
 use std::path::{Path, PathBuf};
 
-use assert_cmd::Command;
 use cpsplan::CellState;
 use cpsplan_cli::formats::rosmap::load_map;
 use serde_json::Value;
 
-fn cpsplan() -> Command {
-    Command::cargo_bin("cpsplan").expect("binary built")
-}
+mod common;
+use common::cpsplan;
 
 /// A shared cloud, or `None` with a visible SKIPPED line when the shared data
 /// is absent.

@@ -4,12 +4,8 @@
 
 use std::path::{Path, PathBuf};
 
-use assert_cmd::Command;
-use serde_json::Value;
-
-fn cpsplan() -> Command {
-    Command::cargo_bin("cpsplan").expect("binary built")
-}
+mod common;
+use common::{cpsplan, summary};
 
 /// Runs `args`, expects exit code 2 with exactly one line on stderr, and
 /// returns that line.
@@ -28,11 +24,6 @@ fn refused_with(args: &[&str], needles: &[&str]) -> String {
         assert!(err.contains(n), "{args:?}: `{n}` not in {err}");
     }
     err
-}
-
-fn summary(dir: &Path) -> Value {
-    let text = std::fs::read_to_string(dir.join("summary.json")).expect("summary.json");
-    serde_json::from_str(&text).expect("valid JSON")
 }
 
 fn write(dir: &Path, name: &str, bytes: impl AsRef<[u8]>) -> PathBuf {

@@ -4,23 +4,16 @@
 
 use std::path::Path;
 
-use assert_cmd::Command;
 use cpsplan::model::GroundTruthWalls;
 use cpsplan::world::builtin::BuiltinMap;
 use cpsplan_cli::formats::cloud::{read_cloud, scan_colour, CloudReadOptions};
 use las::Reader;
-use serde_json::Value;
 
-fn cpsplan() -> Command {
-    Command::cargo_bin("cpsplan").expect("binary built")
-}
+mod common;
+use common::{cpsplan, summary};
 
 fn s(p: &Path) -> &str {
     p.to_str().expect("UTF-8 path")
-}
-
-fn summary(dir: &Path) -> Value {
-    serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap()
 }
 
 #[test]

@@ -2,19 +2,8 @@
 //! start from the paper's choices; the file's own keys and the flags still
 //! apply.
 
-use std::path::Path;
-
-use assert_cmd::Command;
-use serde_json::Value;
-
-fn cpsplan() -> Command {
-    Command::cargo_bin("cpsplan").expect("binary built")
-}
-
-fn summary(dir: &Path) -> Value {
-    let text = std::fs::read_to_string(dir.join("summary.json")).expect("summary.json");
-    serde_json::from_str(&text).expect("valid JSON")
-}
+mod common;
+use common::{cpsplan, summary};
 
 /// `--preset paper` (and `preset = "paper"` in a file) starts from the
 /// paper's choices, recorded in the configuration; the file's own keys and the

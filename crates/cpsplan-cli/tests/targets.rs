@@ -4,12 +4,10 @@
 
 use std::path::Path;
 
-use assert_cmd::Command;
 use serde_json::Value;
 
-fn cpsplan() -> Command {
-    Command::cargo_bin("cpsplan").expect("binary built")
-}
+mod common;
+use common::cpsplan;
 
 fn json(path: &Path) -> Value {
     serde_json::from_str(&std::fs::read_to_string(path).expect("readable")).expect("JSON")

@@ -1,5 +1,5 @@
-//! Helpers shared by the experiment and report tests: the binary, a small
-//! experiment file, running it, and reading its records.
+//! Helpers shared by the command-line tests: the binary, a run's summary, a
+//! small experiment file, running it, and reading its records.
 
 #![allow(dead_code)] // each test binary uses its own part
 
@@ -11,6 +11,12 @@ use serde_json::Value;
 
 pub fn cpsplan() -> Command {
     Command::cargo_bin("cpsplan").expect("binary built")
+}
+
+/// The `summary.json` a run wrote to `dir`.
+pub fn summary(dir: &Path) -> Value {
+    let text = std::fs::read_to_string(dir.join("summary.json")).expect("summary.json");
+    serde_json::from_str(&text).expect("valid JSON")
 }
 
 /// Two maps × two parameter sets (the parent alone; a parent with two children)
