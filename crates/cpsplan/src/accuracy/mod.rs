@@ -16,6 +16,7 @@
 //! - [`monte_carlo()`]: noise drawn through the chain, estimated by nonlinear least
 //!   squares.
 //! - [`Objective`]: what a placement of the children costs at the next pose.
+//! - [`Reading`]: one reading as a total station records it.
 
 mod batch;
 mod chain;
@@ -25,6 +26,7 @@ mod model;
 mod monte_carlo;
 mod network;
 mod placement;
+mod reading;
 mod script;
 
 pub use batch::{batch_covariances, batch_station_covariance};
@@ -35,4 +37,5 @@ pub use model::Model;
 pub use monte_carlo::{monte_carlo, realisation, MonteCarlo, Realisation};
 pub use network::{Fit, Measurement, Network, NetworkError, StationFit, Unknown};
 pub use placement::Objective;
+pub use reading::Reading;
 pub use script::{Event, Role, Script, ScriptVar};
