@@ -409,6 +409,12 @@ pub struct ExploreArgs {
     /// NAME-stations.ply.
     #[arg(long, value_name = "FILE")]
     pub cloud_out: Option<PathBuf>,
+    /// Write the readings a real team's total station would have recorded:
+    /// per scan, readings-NNNN.csv with every reading since the scan before,
+    /// with the instrument's noise (the values the episode's own estimates come
+    /// from). Needs two children or more.
+    #[arg(long, value_name = "DIR")]
+    pub field_data: Option<PathBuf>,
     /// Height of the walls of the 3D model, metres.
     #[arg(long, value_name = "M", allow_hyphen_values = true, value_parser = parse_real,
           help = with_default("Height of the walls of the 3D model, metres", defaults().model.wall_height))]

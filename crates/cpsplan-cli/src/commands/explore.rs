@@ -5,7 +5,7 @@ use std::time::Instant;
 
 use anyhow::{bail, Context, Result};
 use cpsplan::config::{Scoring, TargetPlacement};
-use cpsplan::mission::{Summary, TargetOrigin, START_REGION_SHARE};
+use cpsplan::mission::{field_readings, Summary, TargetOrigin, START_REGION_SHARE};
 use cpsplan::model::{build_model, build_model_in, ModelPoint, RegisteredModel, Registration};
 use cpsplan::{run_episode_with, Config, StopReason};
 use indicatif::{ProgressBar, ProgressStyle};
@@ -13,6 +13,7 @@ use indicatif::{ProgressBar, ProgressStyle};
 use super::{check_memory, load_truth, read_config, validate};
 use crate::cli::{ExploreArgs, ScoringArg};
 use crate::formats::cloud::{encode_las, encode_ply, encode_stations_ply};
+use crate::formats::readings::write_readings;
 use crate::formats::rosmap::ReadLimits;
 use crate::formats::targets::read_targets;
 use crate::render::{percent, render_step, StepView};
@@ -21,6 +22,29 @@ use crate::report::{write_atomic, write_episode_outputs, write_temp, ReportDir, 
 /// The file name of the figure of the step after scan `n`: `step-007.png`.
 pub fn step_figure_name(n: usize) -> String {
     format!("step-{n:03}.png")
+}
+
+/// The file name of scan `n`'s readings in `--field-data`: `readings-0007.csv`.
+pub fn readings_file_name(n: usize) -> String {
+    format!("readings-{n:04}.csv")
+}
+
+/// Whether `name` is a file `--field-data` writes.
+fn is_field_file(name: &str) -> bool {
+    name.strip_prefix("readings-")
+        .and_then(|r| r.strip_suffix(".csv"))
+        .is_some_and(|n| !n.is_empty() && n.bytes().all(|b| b.is_ascii_digit()))
+}
+
+/// Writes `--field-data`: every scan's readings since the scan before.
+fn write_field_data(dir: &Path, episode: &cpsplan::Episode) -> Result<()> {
+    let scans = field_readings(episode)
+        .context("--field-data: the episode's network cannot be simulated")?;
+    for (k, readings) in scans.iter().enumerate() {
+        let text = write_readings(readings);
+        write_atomic(&dir.join(readings_file_name(k + 1)), text.as_bytes())?;
+    }
+    Ok(())
 }
 
 /// Builds the run's configuration: defaults, then the TOML file, then flags.
@@ -137,8 +161,19 @@ pub fn build_config(args: &ExploreArgs) -> Result<Config> {
 pub fn run(args: &ExploreArgs) -> Result<()> {
     let config = build_config(args)?;
     let cloud_format = args.cloud_out.as_deref().map(ModelFormat::of).transpose()?;
-    // Refuses an unusable --out before the run, not after it.
+    if args.field_data.is_some() && config.children.count < 2 {
+        bail!(
+            "--field-data: the readings fix the parent's pose from two children or more (--children {})",
+            config.children.count
+        );
+    }
+    // Refuses an unusable --out (and --field-data) before the run, not after it.
     let report = ReportDir::create(&args.out)?;
+    let field = args
+        .field_data
+        .as_deref()
+        .map(|dir| ReportDir::create_for(dir, is_field_file))
+        .transpose()?;
     let (truth, source, start) =
         load_truth(args.map.as_deref(), args.builtin, args.start, &config)?;
     check_memory(&truth, &config)?;
@@ -234,7 +269,13 @@ pub fn run(args: &ExploreArgs) -> Result<()> {
         let html = crate::html::episode_page(&episode, page, &title, &source.label())?;
         write_atomic(&report.path().join("report.html"), html.as_bytes())?;
     }
+    if let Some(field) = &field {
+        write_field_data(field.path(), &episode)?;
+    }
     report.commit()?;
+    if let Some(field) = field {
+        field.commit()?;
+    }
     if let (Some(path), Some((cloud, stations))) = (&args.cloud_out, cloud) {
         cloud.persist(path)?;
         stations.persist(&stations_path(path))?;

@@ -20,13 +20,10 @@ use std::f64::consts::{PI, TAU};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
-use cpsplan::accuracy::Reading;
+use cpsplan::accuracy::{Reading, MAX_NAME};
 
 use super::config::one_line;
 use super::rosmap::read_text;
-
-/// The longest station or point name.
-pub const MAX_NAME: usize = 64;
 
 /// The longest slope distance accepted, metres (ten times any instrument's range).
 pub const MAX_DISTANCE_M: f64 = 20_000.0;
@@ -153,11 +150,7 @@ pub fn parse_readings(text: &str, path: &Path) -> Result<Vec<Reading>, ReadingsE
         let field = |c: usize| record.get(c).unwrap_or("");
         let name = |c: usize, what: &str| -> Result<String, ReadingsError> {
             let s = field(c);
-            let ok = !s.is_empty()
-                && s.len() <= MAX_NAME
-                && s.chars()
-                    .all(|ch| ch.is_ascii_alphanumeric() || "._-:".contains(ch));
-            if ok {
+            if Reading::valid_name(s) {
                 Ok(s.to_string())
             } else {
                 Err(bad(

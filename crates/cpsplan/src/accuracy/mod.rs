@@ -37,5 +37,5 @@ pub use model::Model;
 pub use monte_carlo::{monte_carlo, realisation, MonteCarlo, Realisation};
 pub use network::{Fit, Measurement, Network, NetworkError, StationFit, Unknown};
 pub use placement::Objective;
-pub use reading::Reading;
+pub use reading::{Reading, MAX_NAME};
 pub use script::{Event, Role, Script, ScriptVar};

@@ -35,7 +35,20 @@ pub struct Reading {
     pub zenith_rad: f64,
 }
 
+/// The longest station or point name.
+pub const MAX_NAME: usize = 64;
+
 impl Reading {
+    /// Whether `name` may name a station or a point: 1 to [`MAX_NAME`]
+    /// letters, digits, `.`, `_`, `-` or `:` (what survey software exchanges).
+    pub fn valid_name(name: &str) -> bool {
+        !name.is_empty()
+            && name.len() <= MAX_NAME
+            && name
+                .chars()
+                .all(|ch| ch.is_ascii_alphanumeric() || "._-:".contains(ch))
+    }
+
     /// The reading of `model`'s observation `z` (planar: `[d, r]`, taken level;
     /// 3D: `[s, r, ζ]`) from `station` to `point`.
     pub fn from_observation(station: &str, point: &str, model: &Model, z: &[f64]) -> Self {
@@ -106,6 +119,16 @@ mod tests {
                 let point = m.forward(s.as_slice(), back.as_slice());
                 prop_assert!((point - &c).abs().max() < 1e-9);
             }
+        }
+    }
+
+    #[test]
+    fn names_are_what_survey_software_exchanges() {
+        for ok in ["S0001", "C1.0003", "GNSS-1", "t_2:a"] {
+            assert!(Reading::valid_name(ok), "{ok}");
+        }
+        for bad in ["", "C 1", "a,b", "é", &"x".repeat(MAX_NAME + 1)] {
+            assert!(!Reading::valid_name(bad), "{bad}");
         }
     }
 

@@ -74,6 +74,8 @@ pub struct Script {
     child_vars: Vec<Option<usize>>,
     /// The unknown of each station, in order.
     stations: Vec<usize>,
+    /// The index of the first event of each cycle.
+    cycle_starts: Vec<usize>,
 }
 
 impl Script {
@@ -88,6 +90,7 @@ impl Script {
             target_vars: Vec::new(),
             child_vars: vec![None; children],
             stations: Vec::new(),
+            cycle_starts: Vec::new(),
         };
         for &t in targets {
             s.add_target(t);
@@ -126,6 +129,12 @@ impl Script {
     /// The unknown of each station, in order (0 is the first, fixed).
     pub fn stations(&self) -> &[usize] {
         &self.stations
+    }
+
+    /// The index into [`Self::events`] of each cycle's first event, in order:
+    /// the events before the first belong to the first station alone.
+    pub fn cycle_starts(&self) -> &[usize] {
+        &self.cycle_starts
     }
 
     /// The unknown of target `t`, once it appeared.
@@ -186,6 +195,7 @@ impl Script {
 
     /// One cycle (the module's steps 1–4).
     pub fn cycle(&mut self, c: &CycleGeometry) {
+        self.cycle_starts.push(self.events.len());
         let from = self.station();
         self.sight(from, &c.here);
         for (i, &p) in c.children.iter().enumerate() {

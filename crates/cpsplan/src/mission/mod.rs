@@ -27,11 +27,14 @@
 //! - `clock`: the campaign's time ([`Clock`], [`CampaignTime`]).
 //! - `memory`: the memory an episode needs, estimated before it runs
 //!   ([`MemoryEstimate`]).
+//! - `field`: the readings a real instrument would have recorded
+//!   ([`field_readings`]).
 
 mod accuracy;
 mod calibration;
 mod clock;
 mod episode;
+mod field;
 mod memory;
 mod record;
 mod step;
@@ -46,6 +49,7 @@ pub use episode::{
     parent_path, run_episode, run_episode_with, start_cell, Episode, MissionError, Step,
     StopReason, Summary, START_REGION_SHARE, START_REGION_SHARE_OF_MAP,
 };
+pub use field::{field_readings, network_of, station_position};
 pub use memory::MemoryEstimate;
 pub use record::{
     cycle_and_regions, move_and_regions, ChildMove, Closure, CycleRecord, LeftTarget, MoveRecord,

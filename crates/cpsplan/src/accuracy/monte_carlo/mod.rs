@@ -18,6 +18,7 @@
 
 mod run;
 
+use nalgebra::DVector;
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use rayon::prelude::*;
@@ -59,6 +60,9 @@ pub struct Realisation {
     /// With smoothing: how every station's readings fit the adjusted network
     /// (by station number, the first included).
     pub fits: Option<Vec<Option<StationFit>>>,
+    /// Every noisy reading the estimates come from, in the order of the
+    /// script's Observe events ([`Script::of`] the same network).
+    pub readings: Vec<DVector<f64>>,
 }
 
 /// Runs `runs` noisy realisations of the network `net`; `smooth`: adjust each
@@ -75,7 +79,7 @@ pub fn monte_carlo(
     let errors: Vec<run::RunErrors> = (0..runs)
         .into_par_iter()
         .map(|r| {
-            one_run(
+            let mut e = one_run(
                 model,
                 net,
                 &script,
@@ -83,7 +87,10 @@ pub fn monte_carlo(
                 &mut run_rng(seed, r),
                 smooth,
                 false,
-            )
+            );
+            // The statistics need the errors only.
+            e.readings = Vec::new();
+            e
         })
         .collect();
     let k = net.cycles.len();
@@ -162,6 +169,7 @@ pub fn realisation(
         filtering: e.filtering,
         smoothed: e.smoothed,
         fits: e.fits,
+        readings: e.readings,
     })
 }
 

@@ -60,6 +60,8 @@ pub(super) struct RunErrors {
     pub smoothed: Option<Vec<[f64; 4]>>,
     /// With `fits`: every station's fit after the adjustment.
     pub fits: Option<Vec<Option<StationFit>>>,
+    /// Every noisy reading, in the order of the script's Observe events.
+    pub readings: Vec<DVector<f64>>,
 }
 
 /// One realisation (module doc).
@@ -85,6 +87,7 @@ pub(super) fn one_run(
         filtering: run.errors,
         smoothed,
         fits,
+        readings: run.readings,
     }
 }
 
