@@ -409,9 +409,10 @@ pub struct ExploreArgs {
     /// NAME-stations.ply.
     #[arg(long, value_name = "FILE")]
     pub cloud_out: Option<PathBuf>,
-    /// Write the readings a real team's total station would have recorded:
-    /// per scan, readings-NNNN.csv with every reading since the scan before,
-    /// with the instrument's noise (the values the episode's own estimates come
+    /// Write what a real team would have recorded: per scan, scan-NNNN.ply
+    /// (the cloud in the scanner's own frame, with range noise) and
+    /// readings-NNNN.csv (every total-station reading since the scan before,
+    /// with the instrument's noise: the values the episode's own estimates come
     /// from). Needs two children or more.
     #[arg(long, value_name = "DIR")]
     pub field_data: Option<PathBuf>,

@@ -1,15 +1,17 @@
-//! `explore --field-data`: the readings a real team would have recorded, one
-//! file per scan, readable by the readings parser, all or nothing.
+//! `explore --field-data`: the clouds and readings a real team would have
+//! recorded, two files per scan, readable by the project's own readers, all or
+//! nothing.
 
 use std::path::Path;
 
+use cpsplan_cli::formats::cloud::{read_cloud, CloudReadOptions};
 use cpsplan_cli::formats::readings::parse_readings;
 
 mod common;
 use common::{cpsplan, summary};
 
 #[test]
-fn every_scan_has_its_readings_file() {
+fn every_scan_has_its_cloud_and_readings() {
     let tmp = tempfile::tempdir().unwrap();
     let (out, field) = (tmp.path().join("out"), tmp.path().join("field"));
     cpsplan()
@@ -33,10 +35,24 @@ fn every_scan_has_its_readings_file() {
         .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
         .collect();
     names.sort();
-    let expected: Vec<String> = (1..=scans)
-        .map(|n| format!("readings-{n:04}.csv"))
+    let mut expected: Vec<String> = (1..=scans)
+        .flat_map(|n| [format!("readings-{n:04}.csv"), format!("scan-{n:04}.ply")])
         .collect();
+    expected.sort();
     assert_eq!(names, expected);
+    // Each cloud in its scanner's frame: around the origin, within the range.
+    for n in 1..=scans {
+        let path = field.join(format!("scan-{n:04}.ply"));
+        let cloud = read_cloud(&path, &CloudReadOptions::default(), &mut |_, _| {}).unwrap();
+        assert!(cloud.points.len() > 100, "{}", path.display());
+        let far = cloud
+            .points
+            .iter()
+            .map(|p| p.iter().map(|v| v * v).sum::<f64>().sqrt())
+            .fold(0.0, f64::max);
+        assert!(far < 21.0, "{far}");
+    }
+    let names: Vec<String> = names.into_iter().filter(|n| n.ends_with(".csv")).collect();
     let mut stations = Vec::new();
     for (k, name) in names.iter().enumerate() {
         let path = field.join(name);

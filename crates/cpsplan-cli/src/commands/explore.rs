@@ -6,7 +6,9 @@ use std::time::Instant;
 use anyhow::{bail, Context, Result};
 use cpsplan::config::{Scoring, TargetPlacement};
 use cpsplan::mission::{field_readings, Summary, TargetOrigin, START_REGION_SHARE};
-use cpsplan::model::{build_model, build_model_in, ModelPoint, RegisteredModel, Registration};
+use cpsplan::model::{
+    build_model, build_model_in, scanner_frame_scans, ModelPoint, RegisteredModel, Registration,
+};
 use cpsplan::{run_episode_with, Config, StopReason};
 use indicatif::{ProgressBar, ProgressStyle};
 
@@ -29,22 +31,50 @@ pub fn readings_file_name(n: usize) -> String {
     format!("readings-{n:04}.csv")
 }
 
-/// Whether `name` is a file `--field-data` writes.
-fn is_field_file(name: &str) -> bool {
-    name.strip_prefix("readings-")
-        .and_then(|r| r.strip_suffix(".csv"))
-        .is_some_and(|n| !n.is_empty() && n.bytes().all(|b| b.is_ascii_digit()))
+/// The file name of scan `n`'s cloud in `--field-data`: `scan-0007.ply`.
+pub fn scan_file_name(n: usize) -> String {
+    format!("scan-{n:04}.ply")
 }
 
-/// Writes `--field-data`: every scan's readings since the scan before.
-fn write_field_data(dir: &Path, episode: &cpsplan::Episode) -> Result<()> {
+/// Whether `name` is a file `--field-data` writes.
+fn is_field_file(name: &str) -> bool {
+    let numbered = |prefix: &str, suffix: &str| {
+        name.strip_prefix(prefix)
+            .and_then(|r| r.strip_suffix(suffix))
+            .is_some_and(|n| !n.is_empty() && n.bytes().all(|b| b.is_ascii_digit()))
+    };
+    numbered("readings-", ".csv") || numbered("scan-", ".ply")
+}
+
+/// Writes `--field-data`: every scan's cloud in the scanner's frame, and its
+/// readings since the scan before.
+fn write_field_data(
+    dir: &Path,
+    truth: &cpsplan::OccupancyGrid,
+    episode: &cpsplan::Episode,
+    config: &Config,
+) -> Result<()> {
     let scans = field_readings(episode)
         .context("--field-data: the episode's network cannot be simulated")?;
     for (k, readings) in scans.iter().enumerate() {
         let text = write_readings(readings);
         write_atomic(&dir.join(readings_file_name(k + 1)), text.as_bytes())?;
     }
-    Ok(())
+    let mut failed = None;
+    scanner_frame_scans(truth, episode, config, |scan, points| {
+        if failed.is_some() {
+            return;
+        }
+        let name = scan_file_name(scan as usize + 1);
+        let written = encode_ply(points)
+            .map_err(anyhow::Error::from)
+            .and_then(|bytes| write_atomic(&dir.join(&name), &bytes));
+        if let Err(e) = written {
+            failed = Some(e.context(format!("--field-data: {name}")));
+        }
+    })
+    .context("--field-data")?;
+    failed.map_or(Ok(()), Err)
 }
 
 /// Builds the run's configuration: defaults, then the TOML file, then flags.
@@ -270,7 +300,7 @@ pub fn run(args: &ExploreArgs) -> Result<()> {
         write_atomic(&report.path().join("report.html"), html.as_bytes())?;
     }
     if let Some(field) = &field {
-        write_field_data(field.path(), &episode)?;
+        write_field_data(field.path(), &truth, &episode, &config)?;
     }
     report.commit()?;
     if let Some(field) = field {

@@ -78,33 +78,12 @@ pub fn build_model_in(
     mut on_scan: impl FnMut(u32, &[ModelPoint]),
 ) -> Result<RegisteredModel, ModelError> {
     let m = &config.model;
-    let rows = ((m.wall_height / m.vertical_step).round() as usize).max(1);
-    let instrument = Instrument::from_config(&config.instrument);
-    let sampling = Sampling {
-        rows,
-        wall_height: m.wall_height,
-        range_sigma: match m.range_sigma_mm {
-            Some(mm) => [mm / 1000.0, 0.0],
-            None => [instrument.distance_sigma, instrument.distance_ppm],
-        },
-    };
-    let range = config.range_cells();
-    let walls: Vec<Vec<usize>> = episode
-        .steps
-        .iter()
-        .map(|s| seen_walls(truth, s.cell, range))
-        .collect();
-    let total: u64 = walls.iter().map(|w| w.len() as u64 * rows as u64).sum();
-    if total > config.limits.max_cloud_points as u64 {
-        return Err(ModelError::TooManyPoints {
-            points: total,
-            limit: config.limits.max_cloud_points,
-        });
-    }
+    let (sampling, walls) = scans_of(truth, episode, config)?;
+    let total: usize = walls.iter().map(|w| w.len() * sampling.rows).sum();
     let truth_walls = GroundTruthWalls::new(truth, m.wall_height);
     let mut stations = Vec::with_capacity(episode.steps.len());
     let mut scans = Vec::with_capacity(episode.steps.len());
-    let mut all = Vec::with_capacity(total as usize);
+    let mut all = Vec::with_capacity(total);
     let mut points = Vec::new();
     let mut distances = Vec::new();
     for (k, (step, walls)) in episode.steps.iter().zip(&walls).enumerate() {
@@ -129,9 +108,7 @@ pub fn build_model_in(
             error,
             heading_error,
         };
-        let mut rng = ChaCha8Rng::seed_from_u64(
-            config.seed ^ (k as u64 + 1).wrapping_mul(0xd1b5_4a32_d192_ed03),
-        );
+        let mut rng = scan_rng(config.seed, k);
         points.clear();
         scan_points(truth, walls, &pose, &sampling, scan, &mut rng, &mut points);
         distances.clear();
@@ -173,4 +150,128 @@ pub fn build_model_in(
             scans,
         },
     })
+}
+
+/// How the points of every scan are sampled, and the wall cells each scan of
+/// `episode` sees; refused when the model would exceed the points limit.
+fn scans_of(
+    truth: &OccupancyGrid,
+    episode: &Episode,
+    config: &Config,
+) -> Result<(Sampling, Vec<Vec<usize>>), ModelError> {
+    let m = &config.model;
+    let rows = ((m.wall_height / m.vertical_step).round() as usize).max(1);
+    let instrument = Instrument::from_config(&config.instrument);
+    let sampling = Sampling {
+        rows,
+        wall_height: m.wall_height,
+        range_sigma: match m.range_sigma_mm {
+            Some(mm) => [mm / 1000.0, 0.0],
+            None => [instrument.distance_sigma, instrument.distance_ppm],
+        },
+    };
+    let range = config.range_cells();
+    let walls: Vec<Vec<usize>> = episode
+        .steps
+        .iter()
+        .map(|s| seen_walls(truth, s.cell, range))
+        .collect();
+    let total: u64 = walls.iter().map(|w| w.len() as u64 * rows as u64).sum();
+    if total > config.limits.max_cloud_points as u64 {
+        return Err(ModelError::TooManyPoints {
+            points: total,
+            limit: config.limits.max_cloud_points,
+        });
+    }
+    Ok((sampling, walls))
+}
+
+/// The range noise of scan `k` of a run seeded by `seed`.
+fn scan_rng(seed: u64, k: usize) -> ChaCha8Rng {
+    ChaCha8Rng::seed_from_u64(seed ^ (k as u64 + 1).wrapping_mul(0xd1b5_4a32_d192_ed03))
+}
+
+/// Every scan of `episode` as the scanner itself records it: its points in the
+/// scanner's frame (origin at the scanner's centre, axes along the world's: the
+/// simulated instrument's circle is oriented at 0), with the same range noise
+/// as [`build_model_in`]'s, to `on_scan(scan, points)` in scan order.
+pub fn scanner_frame_scans(
+    truth: &OccupancyGrid,
+    episode: &Episode,
+    config: &Config,
+    mut on_scan: impl FnMut(u32, &[ModelPoint]),
+) -> Result<(), ModelError> {
+    let (sampling, walls) = scans_of(truth, episode, config)?;
+    let mut points = Vec::new();
+    for (k, (step, walls)) in episode.steps.iter().zip(&walls).enumerate() {
+        let scan = u32::try_from(k).unwrap_or(u32::MAX);
+        let truth_centre = [
+            step.position.x,
+            step.position.y,
+            config.model.scanner_height,
+        ];
+        // Expressed in an "estimate" at the origin: the scanner's own frame.
+        let pose = ScanPose {
+            truth: truth_centre,
+            error: truth_centre.map(|v| -v),
+            heading_error: 0.0,
+        };
+        points.clear();
+        scan_points(
+            truth,
+            walls,
+            &pose,
+            &sampling,
+            scan,
+            &mut scan_rng(config.seed, k),
+            &mut points,
+        );
+        on_scan(scan, &points);
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::run_episode;
+    use crate::world::builtin::BuiltinMap;
+
+    /// A scan in the scanner's frame, moved to the scanner's true centre, is
+    /// the registered model's scan where no pose was estimated (the true poses):
+    /// the same points and the same noise.
+    #[test]
+    fn scanner_frames_are_the_model_moved_to_the_origin() {
+        let map = BuiltinMap::Site;
+        let mut config = Config::default();
+        config.mission.max_scans = 3;
+        let truth = map.generate(0);
+        let episode = run_episode(&truth, map.default_start(), &config, |_| {}).unwrap();
+        let mut registered: Vec<Vec<ModelPoint>> = Vec::new();
+        build_model(&truth, &episode, &config, |_, p| {
+            registered.push(p.to_vec())
+        })
+        .unwrap();
+        let mut local: Vec<Vec<ModelPoint>> = Vec::new();
+        scanner_frame_scans(&truth, &episode, &config, |_, p| local.push(p.to_vec())).unwrap();
+        assert_eq!(local.len(), episode.steps.len());
+        let range = config.scanner.range;
+        for ((step, r), l) in episode.steps.iter().zip(&registered).zip(&local) {
+            assert_eq!(r.len(), l.len());
+            assert!(!l.is_empty());
+            let centre = [
+                step.position.x,
+                step.position.y,
+                config.model.scanner_height,
+            ];
+            for (a, b) in r.iter().zip(l) {
+                assert_eq!(a.scan, b.scan);
+                for ((r, c), l) in a.position.iter().zip(centre).zip(b.position) {
+                    assert!((r - c - l).abs() < 1e-9);
+                }
+                let d = b.position.iter().map(|v| v * v).sum::<f64>().sqrt();
+                assert!(d < range + 1.0, "{d}");
+            }
+        }
+    }
 }
