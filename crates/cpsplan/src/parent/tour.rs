@@ -390,7 +390,7 @@ mod tests {
 
     proptest! {
         #[test]
-        fn the_tour_visits_every_stop_once_and_is_near_optimal(
+        fn the_tour_visits_every_stop_once_and_is_locally_optimal(
             pts in prop::collection::vec((0.0f64..50.0, 0.0f64..50.0), 2..8)
         ) {
             let d: Vec<Vec<f64>> = pts
@@ -401,9 +401,63 @@ mod tests {
             let mut sorted = order.clone();
             sorted.sort_unstable();
             prop_assert_eq!(sorted, (1..pts.len()).collect::<Vec<_>>());
-            let best = brute_force(&d);
-            // 2-opt with Or-opt on the plane: within 25 % of the optimum here.
-            prop_assert!(path_length(&d, &order) <= 1.25 * best + 1e-9);
+            // What the search guarantees: no reversal of a stretch (2-opt) and
+            // no move of one stop (Or-opt) shortens the route it returns, and
+            // it never ends longer than its nearest-neighbour start.
+            let length = path_length(&d, &order);
+            for i in 0..order.len() {
+                for j in i + 1..order.len() {
+                    let mut o = order.clone();
+                    o[i..=j].reverse();
+                    prop_assert!(path_length(&d, &o) + 1e-9 >= length);
+                }
+                for k in 0..order.len() {
+                    let mut o = order.clone();
+                    let node = o.remove(i);
+                    o.insert(k, node);
+                    prop_assert!(path_length(&d, &o) + 1e-9 >= length);
+                }
+            }
+            prop_assert!(length <= path_length(&d, &nearest_neighbour(&d)) + 1e-9);
+            prop_assert!(length >= brute_force(&d) - 1e-9);
         }
+    }
+
+    /// The order of the nearest stop next, from the parent.
+    fn nearest_neighbour(d: &[Vec<f64>]) -> Vec<usize> {
+        let mut left: Vec<usize> = (1..d.len()).collect();
+        let (mut at, mut order) = (0, Vec::new());
+        while !left.is_empty() {
+            let k = (0..left.len())
+                .min_by(|&a, &b| {
+                    d[at][left[a]]
+                        .total_cmp(&d[at][left[b]])
+                        .then(left[a].cmp(&left[b]))
+                })
+                .unwrap_or(0);
+            at = left.swap_remove(k);
+            order.push(at);
+        }
+        order
+    }
+
+    /// Local search is not exact: six points where the route found is 25.4 %
+    /// longer than the best one (a local optimum of both moves).
+    #[test]
+    fn a_local_optimum_can_miss_the_best_route() {
+        let pts: [(f64, f64); 6] = [
+            (8.178546414629356, 20.51953241879228),
+            (0.0, 49.501209085036095),
+            (5.215179914448746, 10.625373747066655),
+            (13.217237633174747, 24.294417594865017),
+            (6.566042303069595, 6.253356771454389),
+            (10.686239988019933, 32.915509945346905),
+        ];
+        let d: Vec<Vec<f64>> = pts
+            .iter()
+            .map(|a| pts.iter().map(|b| (a.0 - b.0).hypot(a.1 - b.1)).collect())
+            .collect();
+        let ratio = path_length(&d, &open_tour(&d)) / brute_force(&d);
+        assert!((ratio - 1.254).abs() < 1e-3, "{ratio}");
     }
 }
