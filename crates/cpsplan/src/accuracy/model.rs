@@ -229,11 +229,12 @@ impl Model {
 }
 
 #[cfg(test)]
-mod tests {
+pub(super) mod tests {
     use super::*;
     use crate::config::InstrumentConfig;
 
-    fn models() -> [Model; 2] {
+    /// A planar and a 3D model of the default instrument.
+    pub(in crate::accuracy) fn models() -> [Model; 2] {
         let planar = Model::new(Instrument::from_config(&InstrumentConfig::default()));
         let mut i = planar.instrument;
         i.three_d = true;

@@ -80,17 +80,9 @@ impl Reading {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::accuracy::Instrument;
-    use crate::config::InstrumentConfig;
+    use crate::accuracy::model::tests::models;
     use crate::geom::Point;
     use proptest::prelude::*;
-
-    fn models() -> [Model; 2] {
-        let planar = Model::new(Instrument::from_config(&InstrumentConfig::default()));
-        let mut i = planar.instrument;
-        i.three_d = true;
-        [planar, Model::new(i)]
-    }
 
     /// The angular distance of two directions.
     fn apart(a: f64, b: f64) -> f64 {

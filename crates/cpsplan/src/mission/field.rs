@@ -14,13 +14,11 @@
 //!   team's own; `T<n>` where a name is not one a survey could exchange,
 //!   [`Reading::valid_name`]).
 
+use super::episode::Episode;
 use crate::accuracy::{
     realisation, CycleGeometry, Event, Instrument, Model, NetworkGeometry, Reading, Role, Script,
     TargetPoint,
 };
-use crate::geom::Point;
-
-use super::episode::Episode;
 
 /// The network of `episode` as its records give it, and the number of cycles of
 /// the move that followed each scan but the last (the move planned after the
@@ -134,26 +132,27 @@ fn names(script: &Script, episode: &Episode) -> Vec<String> {
         .collect()
 }
 
-/// Where the station named `name` stands in `episode`'s network ([`network_of`];
-/// `S0000` the start), if it is one.
-pub fn station_position(episode: &Episode, name: &str) -> Option<Point> {
-    let k: usize = name.strip_prefix('S')?.parse().ok()?;
-    if k == 0 {
-        return Some(episode.start);
-    }
-    episode
-        .steps
-        .iter()
-        .flat_map(|s| &s.movement.cycles)
-        .nth(k - 1)
-        .map(|c| c.parent_to)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::geom::Point;
     use crate::world::builtin::BuiltinMap;
     use crate::{run_episode, Config};
+
+    /// Where the station named `name` stands in `episode`'s network ([`network_of`];
+    /// `S0000` the start), if it is one.
+    fn station_position(episode: &Episode, name: &str) -> Option<Point> {
+        let k: usize = name.strip_prefix('S')?.parse().ok()?;
+        if k == 0 {
+            return Some(episode.start);
+        }
+        episode
+            .steps
+            .iter()
+            .flat_map(|s| &s.movement.cycles)
+            .nth(k - 1)
+            .map(|c| c.parent_to)
+    }
 
     fn episode(monte_carlo_runs: usize, targets: usize) -> Episode {
         let map = BuiltinMap::Site;

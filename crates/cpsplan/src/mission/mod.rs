@@ -49,7 +49,7 @@ pub use episode::{
     parent_path, run_episode, run_episode_with, start_cell, Episode, MissionError, Step,
     StopReason, Summary, START_REGION_SHARE, START_REGION_SHARE_OF_MAP,
 };
-pub use field::{field_readings, network_of, station_position};
+pub use field::{field_readings, network_of};
 pub use memory::MemoryEstimate;
 pub use record::{
     cycle_and_regions, move_and_regions, ChildMove, Closure, CycleRecord, LeftTarget, MoveRecord,
