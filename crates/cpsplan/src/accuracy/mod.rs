@@ -28,6 +28,7 @@ mod network;
 mod placement;
 mod reading;
 mod script;
+mod survey;
 
 pub use batch::{batch_covariances, batch_station_covariance};
 pub use chain::{Chain, ChainError, PoseCovariance};
@@ -39,3 +40,7 @@ pub use network::{Fit, Measurement, Network, NetworkError, StationFit, Unknown};
 pub use placement::Objective;
 pub use reading::{Reading, MAX_NAME};
 pub use script::{Event, Role, Script, ScriptVar};
+pub use survey::{
+    adjust_readings, child_spot, reading_name, Adjusted, Blunder, ControlPoint, Datum, Survey,
+    SurveyError, BLUNDER_SIGMAS,
+};

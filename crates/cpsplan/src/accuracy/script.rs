@@ -82,6 +82,18 @@ impl Script {
     /// A network starting at `start` (known exactly) with `children` children
     /// and the `targets` known so far.
     pub fn new(model: Model, start: Point, children: usize, targets: &[TargetPoint]) -> Self {
+        let mut s = Self::with_datum(model, model.station(start, 0.0), children);
+        for &t in targets {
+            s.add_target(t);
+        }
+        s
+    }
+
+    /// An empty script whose first station, known exactly, is `datum` (the
+    /// model's station vector, [`Model::station`]): the start of a network built
+    /// reading by reading ([`Self::add_station`], [`Self::add_point`],
+    /// [`Self::observe`], [`Self::retire`]).
+    pub fn with_datum(model: Model, datum: DVector<f64>, children: usize) -> Self {
         let mut s = Self {
             model,
             vars: Vec::new(),
@@ -92,13 +104,43 @@ impl Script {
             stations: Vec::new(),
             cycle_starts: Vec::new(),
         };
-        for &t in targets {
-            s.add_target(t);
-        }
-        let v = s.var(Role::Station(0), model.station(start, 0.0), None, true);
+        let v = s.var(Role::Station(0), datum, None, true);
         s.stations.push(v);
         s.events.push(Event::New(v));
         s
+    }
+
+    /// Sets up the next station, its unknown starting at `guess`; returns the
+    /// unknown.
+    pub fn add_station(&mut self, guess: DVector<f64>) -> usize {
+        let k = self.stations.len();
+        let v = self.var(Role::Station(k), guess, None, false);
+        self.stations.push(v);
+        self.events.push(Event::New(v));
+        v
+    }
+
+    /// A new point of `role` starting at `guess` (a control point with the σ
+    /// of its known coordinates, which are `guess`); returns its unknown.
+    pub fn add_point(
+        &mut self,
+        role: Role,
+        guess: DVector<f64>,
+        control_sigma: Option<f64>,
+    ) -> usize {
+        let v = self.var(role, guess, control_sigma, false);
+        self.events.push(Event::New(v));
+        v
+    }
+
+    /// A measurement from the unknown `station` to the unknown `point`.
+    pub fn observe(&mut self, station: usize, point: usize) {
+        self.events.push(Event::Observe { station, point });
+    }
+
+    /// Leaves the unknown `v` behind: nothing measures it after this.
+    pub fn retire(&mut self, v: usize) {
+        self.events.push(Event::Retire(v));
     }
 
     /// The script of a whole network.

@@ -11,6 +11,7 @@ use super::accuracy::{FitRecord, PoseAccuracy, PoseEstimate, Tracker};
 use super::calibration::GainCalibration;
 use super::clock::{CampaignTime, Clock};
 use super::record::MoveRecord;
+use super::source::{ScanSource, Simulated};
 use super::targets::{choose_target, PlacementView, TargetOrigin, TargetRecord};
 use super::team;
 use crate::config::{number, Config, ConfigError, Planner};
@@ -18,7 +19,7 @@ use crate::geom::{Cell, Point};
 use crate::grid::{CellState, Drivable, OccupancyGrid};
 use crate::motion::VoronoiField;
 use crate::parent::{CandidateOrigin, Decision, Frontier, Kept, ParentPlan};
-use crate::sensing::{scan, NearField, ScanOutcome};
+use crate::sensing::{NearField, ScanOutcome};
 use crate::world::CoverageTracker;
 
 /// Why a mission could not start.
@@ -414,19 +415,39 @@ pub fn run_episode_with(
     truth: &OccupancyGrid,
     start: Point,
     config: &Config,
-    mut on_step: impl FnMut(&Step, &OccupancyGrid),
+    on_step: impl FnMut(&Step, &OccupancyGrid),
 ) -> Result<Episode, MissionError> {
     config.validate()?;
-    // The working buffers of the GVD and of the band's search are kept from step
-    // to step, and freed when the episode ends, however it ends.
-    let _buffers = ReleaseBuffers;
     let g = *truth.geometry();
     g.check_limits(config)?;
     let truth = truth.solidified();
     let cell = start_cell(&truth, start)?;
-    let mut knowledge = OccupancyGrid::filled(g, CellState::Unknown);
+    let knowledge = OccupancyGrid::filled(g, CellState::Unknown);
+    let mut source = Simulated { truth: &truth };
+    let (episode, _) = run_loop(&mut source, knowledge, cell, config, on_step);
+    Ok(episode)
+}
+
+/// The loop of an episode from `cell` on `knowledge` (what the team knows
+/// before its first scan), its scans and arrivals from `source`; `config`
+/// valid and within the limits for the map. Returns the episode and why it
+/// stopped (`None`: `source` had no further scan, a campaign waiting for its
+/// next one; the summary's stop reason is then [`StopReason::ScanLimit`]).
+pub(crate) fn run_loop<S: ScanSource>(
+    source: &mut S,
+    mut knowledge: OccupancyGrid,
+    cell: Cell,
+    config: &Config,
+    mut on_step: impl FnMut(&Step, &OccupancyGrid),
+) -> (Episode, Option<StopReason>) {
+    // The working buffers of the GVD and of the band's search are kept from step
+    // to step, and freed when the episode ends, however it ends.
+    let _buffers = ReleaseBuffers;
+    let g = *knowledge.geometry();
     let mut chain = Tracker::new(config, g.cell_center(cell));
-    let mut tracker = CoverageTracker::new(&truth, cell, config.robot.radius, &knowledge);
+    let mut tracker = source
+        .truth()
+        .map(|t| CoverageTracker::new(t, cell, config.robot.radius, &knowledge));
     let mut rng = ChaCha8Rng::seed_from_u64(config.seed);
     let mut here = cell;
     let mut travel = 0.0;
@@ -451,8 +472,10 @@ pub fn run_episode_with(
     let mut changed: Vec<usize> = Vec::new();
     let stop_reason = loop {
         changed.clear();
-        let outcome = scan(&truth, &mut knowledge, here, config.range_cells(), |i| {
-            tracker.note_seen(i);
+        let outcome = source.scan(&mut knowledge, here, config.range_cells(), &mut |i| {
+            if let Some(t) = tracker.as_mut() {
+                t.note_seen(i);
+            }
             changed.push(i);
         });
         rayon::join(
@@ -502,7 +525,7 @@ pub fn run_episode_with(
             near: &near,
             frontier: &frontier,
             drivable: &drivable,
-            truth: Some(&truth),
+            truth: source.truth(),
         };
         let (mut plan, reach, groundwork) = team::plan_round(
             &knowledge,
@@ -585,8 +608,8 @@ pub fn run_episode_with(
             position: g.cell_center(here),
             cell: here,
             outcome,
-            coverage: tracker.coverage(),
-            wall_coverage: tracker.wall_coverage(),
+            coverage: tracker.as_ref().map_or(0.0, CoverageTracker::coverage),
+            wall_coverage: tracker.as_ref().map_or(0.0, CoverageTracker::wall_coverage),
             gain_m2,
             gain_scale: round.parent.gain_scale,
             expected_gain_m2: expected.map(|e| e.0),
@@ -617,16 +640,23 @@ pub fn run_episode_with(
         }
         steps.push(step);
         match (decision, moved) {
-            (Decision::Complete, _) => break StopReason::Complete,
-            (Decision::FrontierBelowThreshold, _) => break StopReason::FrontierBelowThreshold,
-            (Decision::NoReachableFrontier, _) => break StopReason::NoReachableFrontier,
-            (Decision::Target { .. }, _) if at_limit => break StopReason::ScanLimit,
-            (Decision::Target { .. }, _) if diminishing => break StopReason::DiminishingReturns,
-            (Decision::Target { index }, None) if is_fallback(&steps, index) => {
-                break StopReason::NoReachableFrontier
+            (Decision::Complete, _) => break Some(StopReason::Complete),
+            (Decision::FrontierBelowThreshold, _) => {
+                break Some(StopReason::FrontierBelowThreshold)
             }
-            (Decision::Target { .. }, None) => break StopReason::NoCpsMove,
-            (Decision::Target { .. }, Some(moved)) => {
+            (Decision::NoReachableFrontier, _) => break Some(StopReason::NoReachableFrontier),
+            (Decision::Target { .. }, _) if at_limit => break Some(StopReason::ScanLimit),
+            (Decision::Target { .. }, _) if diminishing => {
+                break Some(StopReason::DiminishingReturns)
+            }
+            (Decision::Target { index }, None) if is_fallback(&steps, index) => {
+                break Some(StopReason::NoReachableFrontier)
+            }
+            (Decision::Target { .. }, None) => break Some(StopReason::NoCpsMove),
+            (Decision::Target { .. }, Some(planned)) => {
+                let Some(moved) = source.arrive(planned) else {
+                    break None;
+                };
                 let last = steps.last();
                 expected = last
                     .and_then(|s| s.movement.target.and_then(|t| s.plan.candidates.get(t)))
@@ -654,18 +684,19 @@ pub fn run_episode_with(
             }
         }
     };
-    let all_free = truth
-        .cells()
-        .iter()
-        .filter(|&&c| c == CellState::Free)
-        .count();
-    let region = tracker.free_total() as f64;
-    let small_region = region < START_REGION_SHARE * tracker.connected_total() as f64
-        || region < START_REGION_SHARE_OF_MAP * all_free as f64;
-    let stop_reason = if small_region && stop_reason != StopReason::ScanLimit {
-        StopReason::StartRegionTooSmall
-    } else {
-        stop_reason
+    let all_free = source.truth().map_or(0, |t| {
+        t.cells().iter().filter(|&&c| c == CellState::Free).count()
+    });
+    let small_region = tracker.as_ref().is_some_and(|t| {
+        let region = t.free_total() as f64;
+        region < START_REGION_SHARE * t.connected_total() as f64
+            || region < START_REGION_SHARE_OF_MAP * all_free as f64
+    });
+    let stop_reason = match stop_reason {
+        Some(r) if small_region && r != StopReason::ScanLimit => {
+            Some(StopReason::StartRegionTooSmall)
+        }
+        r => r,
     };
     let final_sigma = steps.last().and_then(|s| s.position_sigma_m);
     if let Some(smoothed) = chain.smooth() {
@@ -737,14 +768,16 @@ pub fn run_episode_with(
     let targets = chain.targets().to_vec();
     let summary = Summary {
         scans: steps.len(),
-        coverage: tracker.coverage(),
-        wall_coverage: tracker.wall_coverage(),
-        connected_coverage: tracker.connected_coverage(),
-        reachable_free_cells: tracker.free_total(),
-        connected_free_cells: tracker.connected_total(),
+        coverage: tracker.as_ref().map_or(0.0, CoverageTracker::coverage),
+        wall_coverage: tracker.as_ref().map_or(0.0, CoverageTracker::wall_coverage),
+        connected_coverage: tracker
+            .as_ref()
+            .map_or(0.0, CoverageTracker::connected_coverage),
+        reachable_free_cells: tracker.as_ref().map_or(0, CoverageTracker::free_total),
+        connected_free_cells: tracker.as_ref().map_or(0, CoverageTracker::connected_total),
         map_free_cells: all_free,
         parent_travel_m: travel,
-        stop_reason,
+        stop_reason: stop_reason.unwrap_or(StopReason::ScanLimit),
         seed: config.seed,
         cps_cycles: cycles,
         subgoal_retrievals: retrievals,
@@ -777,12 +810,13 @@ pub fn run_episode_with(
             .count(),
         sigma_violations,
     };
-    Ok(Episode {
+    let episode = Episode {
         config: config.clone(),
         start: g.cell_center(cell),
         steps,
         summary,
         targets,
         knowledge: Some(knowledge),
-    })
+    };
+    (episode, stop_reason)
 }

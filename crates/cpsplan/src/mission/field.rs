@@ -135,6 +135,7 @@ fn names(script: &Script, episode: &Episode) -> Vec<String> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::accuracy::{adjust_readings, reading_name, BLUNDER_SIGMAS};
     use crate::geom::Point;
     use crate::world::builtin::BuiltinMap;
     use crate::{run_episode, Config};
@@ -236,6 +237,110 @@ mod tests {
             assert!((est.position.x - step.position.x - err[0]).abs() < 1e-12);
             assert!((est.position.y - step.position.y - err[1]).abs() < 1e-12);
         }
+    }
+
+    fn datum(e: &Episode) -> crate::accuracy::Datum {
+        crate::accuracy::Datum {
+            station: "S0000".into(),
+            position: e.start,
+            heading_rad: 0.0,
+        }
+    }
+
+    /// Adjusting the readings of the first `k` scans by name alone gives scan
+    /// `k`'s station where the episode's own estimate put it (the network is
+    /// the same), and all of them together its smoothed estimates.
+    #[test]
+    fn the_readings_adjusted_by_name_give_the_episodes_estimates() {
+        for targets in [0, 6] {
+            let e = episode(1, targets);
+            let readings = field_readings(&e).expect("readings");
+            let model = Model::new(Instrument::from_config(&e.config.instrument));
+            let mut all: Vec<Reading> = Vec::new();
+            for (k, rs) in readings.iter().enumerate() {
+                let from = all.len();
+                all.extend(rs.iter().cloned());
+                let survey = adjust_readings(model, &datum(&e), &[], &all, from)
+                    .expect("the readings fix the network");
+                assert!(
+                    survey.left_out.is_empty(),
+                    "scan {k}: {:?}",
+                    survey.left_out
+                );
+                let Some(last) = rs.last() else { continue };
+                let at = survey.get(&last.station).expect("the scan's station");
+                let est = e.steps[k].estimate.expect("an estimate");
+                assert!(at.position().distance(est.position) < 1e-6, "scan {k}");
+            }
+            let survey = adjust_readings(model, &datum(&e), &[], &all, 0).unwrap();
+            for step in &e.steps[1..] {
+                let smoothed = step.smoothed_estimate.expect("smoothed").position;
+                let near = survey
+                    .stations
+                    .iter()
+                    .map(|s| s.position().distance(smoothed))
+                    .fold(f64::INFINITY, f64::min);
+                assert!(near < 1e-7, "scan {}: {near}", step.scan);
+            }
+        }
+    }
+
+    /// A reading 10 cm off in a scan's readings is found and named. In a CPS
+    /// cycle every reading is needed to fix the new station (one redundant
+    /// reading per cycle), so the add is refused rather than the reading left
+    /// out; in the planar model the cycle's readings check only each other and
+    /// are all named.
+    #[test]
+    fn a_reading_ten_centimetres_off_is_named() {
+        let e = episode(1, 0);
+        for three_d in [false, true] {
+            let mut e = e.clone();
+            e.config.instrument.three_d = three_d;
+            let readings = field_readings(&e).expect("readings");
+            let model = Model::new(Instrument::from_config(&e.config.instrument));
+            let k = readings.len() - 1;
+            let mut all: Vec<Reading> = readings[..k].iter().flatten().cloned().collect();
+            let from = all.len();
+            all.extend(readings[k].iter().cloned());
+            let clean = adjust_readings(model, &datum(&e), &[], &all, from).unwrap();
+            assert!(clean.max_standardized < BLUNDER_SIGMAS);
+            for bad in from..all.len() {
+                let mut off = all.clone();
+                off[bad].slope_distance_m += 0.1;
+                let err = adjust_readings(model, &datum(&e), &[], &off, from)
+                    .expect_err("a 10 cm blunder is found");
+                let message = err.to_string();
+                assert!(
+                    message.contains(&reading_name(&off[bad])),
+                    "3D {three_d}: {message}"
+                );
+            }
+        }
+    }
+
+    /// With targets in sight a station has readings to spare: the blunder is
+    /// left out, named, and the station stays within its σ.
+    #[test]
+    fn a_blunder_with_readings_to_spare_is_left_out() {
+        let e = episode(1, 6);
+        let readings = field_readings(&e).expect("readings");
+        let model = Model::new(Instrument::from_config(&e.config.instrument));
+        let all: Vec<Reading> = readings.iter().flatten().cloned().collect();
+        let clean = adjust_readings(model, &datum(&e), &[], &all, 0).unwrap();
+        let mut left = 0;
+        for bad in 0..all.len() {
+            let mut off = all.clone();
+            off[bad].slope_distance_m += 0.1;
+            if let Ok(s) = adjust_readings(model, &datum(&e), &[], &off, 0) {
+                assert_eq!(s.left_out.len(), 1, "{}", reading_name(&off[bad]));
+                assert_eq!(s.left_out[0].reading, bad);
+                for (a, b) in s.stations.iter().zip(&clean.stations) {
+                    assert!(a.position().distance(b.position()) < 3.0 * b.sigma_m().max(1e-4));
+                }
+                left += 1;
+            }
+        }
+        assert!(left > 0, "some reading has others to check it");
     }
 
     #[test]

@@ -37,6 +37,7 @@ mod episode;
 mod field;
 mod memory;
 mod record;
+mod source;
 mod step;
 mod targets;
 mod team;

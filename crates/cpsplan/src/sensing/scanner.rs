@@ -5,7 +5,7 @@ use serde::{Deserialize, Serialize};
 
 use super::visible_cells;
 use crate::geom::Cell;
-use crate::grid::{CellState, OccupancyGrid};
+use crate::grid::{CellState, GridGeometry, OccupancyGrid};
 
 /// What one scan added to the knowledge map.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
@@ -34,23 +34,44 @@ pub fn scan(
     knowledge: &mut OccupancyGrid,
     at: Cell,
     range_cells: f64,
-    mut on_new: impl FnMut(usize),
+    on_new: impl FnMut(usize),
 ) -> ScanOutcome {
     debug_assert_eq!(truth.cells().len(), knowledge.cells().len());
     let t = truth.cells();
+    scan_by(
+        |i| t[i] != CellState::Free,
+        knowledge,
+        at,
+        range_cells,
+        on_new,
+    )
+}
+
+/// [`scan`] with the walls given by `solid(index)` instead of a ground truth:
+/// a real scan, whose walls are the cells its points lie on (and those known
+/// before, [`crate::sensing::observed_walls`]). Every cell the sweep sees is
+/// recorded Free unless `solid` says it holds a wall.
+pub fn scan_by(
+    solid: impl Fn(usize) -> bool,
+    knowledge: &mut OccupancyGrid,
+    at: Cell,
+    range_cells: f64,
+    mut on_new: impl FnMut(usize),
+) -> ScanOutcome {
+    let geometry = *knowledge.geometry();
     let k = knowledge.cells_mut();
     let mut out = ScanOutcome::default();
-    sweep(truth, at, range_cells, |i, swept| {
+    sweep(&geometry, &solid, at, range_cells, |i, swept| {
         if swept {
             out.seen += 1;
         }
         if k[i] == CellState::Unknown {
-            if t[i] == CellState::Free {
-                out.new_free += 1;
-                k[i] = CellState::Free;
-            } else {
+            if solid(i) {
                 out.new_occupied += 1;
                 k[i] = CellState::Occupied;
+            } else {
+                out.new_free += 1;
+                k[i] = CellState::Free;
             }
             on_new(i);
         }
@@ -68,7 +89,8 @@ pub fn true_gain(
 ) -> usize {
     let (t, k) = (truth.cells(), knowledge.cells());
     let mut count = 0;
-    sweep(truth, at, range_cells, |i, swept| {
+    let solid = |i: usize| t[i] != CellState::Free;
+    sweep(truth.geometry(), &solid, at, range_cells, |i, swept| {
         if swept && k[i] == CellState::Unknown && t[i] == CellState::Free {
             count += 1;
         }
@@ -82,7 +104,8 @@ pub fn true_gain(
 pub fn seen_walls(truth: &OccupancyGrid, at: Cell, range_cells: f64) -> Vec<usize> {
     let t = truth.cells();
     let mut walls = Vec::new();
-    sweep(truth, at, range_cells, |i, _| {
+    let solid = |i: usize| t[i] != CellState::Free;
+    sweep(truth.geometry(), &solid, at, range_cells, |i, _| {
         if t[i] != CellState::Free {
             walls.push(i);
         }
@@ -95,36 +118,34 @@ pub fn seen_walls(truth: &OccupancyGrid, at: Cell, range_cells: f64) -> Vec<usiz
 /// The visibility sweep of a scan with wall completion: `visit(i, true)` for
 /// every cell the sweep sees, `visit(j, false)` for every wall cell wall
 /// completion adds (possibly more than once, possibly one the sweep saw).
-fn sweep(truth: &OccupancyGrid, at: Cell, range_cells: f64, mut visit: impl FnMut(usize, bool)) {
-    let geometry = *truth.geometry();
+fn sweep(
+    geometry: &GridGeometry,
+    solid: &impl Fn(usize) -> bool,
+    at: Cell,
+    range_cells: f64,
+    mut visit: impl FnMut(usize, bool),
+) {
     let (w, h) = (geometry.width, geometry.height);
-    let t = truth.cells();
     let r2 = range_cells * range_cells + 1e-9;
     let (ax, ay) = (at.x as i64, at.y as i64);
-    visible_cells(
-        &geometry,
-        at,
-        range_cells,
-        |i| t[i] != CellState::Free,
-        |i| {
-            visit(i, true);
-            if t[i] == CellState::Free {
-                let (x, y) = ((i % w) as i64, (i / w) as i64);
-                let (sx, sy) = ((x - ax).signum(), (y - ay).signum());
-                for (nx, ny) in [(x + sx, y), (x, y + sy)] {
-                    if (nx, ny) == (x, y) || nx < 0 || ny < 0 || nx >= w as i64 || ny >= h as i64 {
-                        continue;
-                    }
-                    let (dx, dy) = ((nx - ax) as f64, (ny - ay) as f64);
-                    let j = ny as usize * w + nx as usize;
-                    if t[j] != CellState::Free && dx * dx + dy * dy <= r2 {
-                        visit(j, false);
-                    }
+    visible_cells(geometry, at, range_cells, solid, |i| {
+        visit(i, true);
+        if !solid(i) {
+            let (x, y) = ((i % w) as i64, (i / w) as i64);
+            let (sx, sy) = ((x - ax).signum(), (y - ay).signum());
+            for (nx, ny) in [(x + sx, y), (x, y + sy)] {
+                if (nx, ny) == (x, y) || nx < 0 || ny < 0 || nx >= w as i64 || ny >= h as i64 {
+                    continue;
+                }
+                let (dx, dy) = ((nx - ax) as f64, (ny - ay) as f64);
+                let j = ny as usize * w + nx as usize;
+                if solid(j) && dx * dx + dy * dy <= r2 {
+                    visit(j, false);
                 }
             }
-            false
-        },
-    );
+        }
+        false
+    });
 }
 
 /// The expected newly scanned area `S` of Eq. (1): the number of Unknown cells of
