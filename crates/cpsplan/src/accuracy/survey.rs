@@ -585,6 +585,9 @@ impl Built {
     }
 }
 
+/// A point in a station's frame and in the world.
+type Pair = (DVector<f64>, DVector<f64>);
+
 /// The approximate pose of a new station from its readings `known` (reading,
 /// point unknown) to points with approximate coordinates: the 2D similarity
 /// (rotation and shift) that best carries the readings' polar points onto
@@ -599,7 +602,8 @@ fn resection(
         return None;
     }
     let origin = model.station(Point::new(0.0, 0.0), 0.0);
-    let pairs: Vec<(DVector<f64>, DVector<f64>)> = known
+    // Each reading's point in the station's frame, and where it is known.
+    let pairs: Vec<Pair> = known
         .iter()
         .map(|&(i, v)| {
             let local = model.forward(origin.as_slice(), readings[i].observation(model).as_slice());
