@@ -611,8 +611,7 @@ fn resection(
         })
         .collect();
     let n = pairs.len() as f64;
-    let mean =
-        |f: &dyn Fn(&(DVector<f64>, DVector<f64>)) -> f64| pairs.iter().map(f).sum::<f64>() / n;
+    let mean = |f: &dyn Fn(&Pair) -> f64| pairs.iter().map(f).sum::<f64>() / n;
     let (lx, ly) = (mean(&|p| p.0[0]), mean(&|p| p.0[1]));
     let (wx, wy) = (mean(&|p| p.1[0]), mean(&|p| p.1[1]));
     let (mut dot, mut cross) = (0.0, 0.0);
