@@ -654,7 +654,7 @@ pub(crate) fn run_loop<S: ScanSource>(
             }
             (Decision::Target { .. }, None) => break Some(StopReason::NoCpsMove),
             (Decision::Target { .. }, Some(planned)) => {
-                let Some(moved) = source.arrive(planned) else {
+                let Some(moved) = source.arrive(planned, &knowledge) else {
                     break None;
                 };
                 let last = steps.last();

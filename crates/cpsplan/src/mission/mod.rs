@@ -29,9 +29,13 @@
 //!   ([`MemoryEstimate`]).
 //! - `field`: the readings a real instrument would have recorded
 //!   ([`field_readings`]).
+//! - `campaign`: a real team's recorded scans replayed through the loop
+//!   ([`run_campaign`]).
+//! - `source`: where the loop's scans and arrivals come from.
 
 mod accuracy;
 mod calibration;
+mod campaign;
 mod clock;
 mod episode;
 mod field;
@@ -45,6 +49,7 @@ mod tolerance;
 
 pub use accuracy::{FitRecord, PoseAccuracy, PoseEstimate, ScanRealisation, Tracker};
 pub use calibration::{GainCalibration, CALIBRATION_MAX, CALIBRATION_MIN_SCANS};
+pub use campaign::{run_campaign, CampaignError, CampaignRun, FieldScan};
 pub use clock::{CampaignTime, Clock};
 pub use episode::{
     parent_path, run_episode, run_episode_with, start_cell, Episode, MissionError, Step,

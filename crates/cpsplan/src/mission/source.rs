@@ -23,9 +23,9 @@ pub trait ScanSource {
         on_new: &mut dyn FnMut(usize),
     ) -> ScanOutcome;
 
-    /// Where the team stands for the next scan after the move `planned`
-    /// (`None`: no further scan is known yet).
-    fn arrive(&mut self, planned: Moved) -> Option<Moved>;
+    /// Where the team stands for the next scan after the move `planned`, on
+    /// `knowledge` (`None`: no further scan is known yet).
+    fn arrive(&mut self, planned: Moved, knowledge: &OccupancyGrid) -> Option<Moved>;
 }
 
 /// A simulation: scans see the ground truth, the team arrives where planned.
@@ -50,7 +50,7 @@ impl ScanSource for Simulated<'_> {
         scan(self.truth, knowledge, at, range_cells, on_new)
     }
 
-    fn arrive(&mut self, planned: Moved) -> Option<Moved> {
+    fn arrive(&mut self, planned: Moved, _: &OccupancyGrid) -> Option<Moved> {
         Some(planned)
     }
 }

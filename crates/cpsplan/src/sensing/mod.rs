@@ -15,6 +15,7 @@
 //! sight clearance ([`sight_clear`]).
 
 mod gain;
+mod observed;
 mod scanner;
 mod shadowcast;
 mod sight;
@@ -22,7 +23,8 @@ mod sight_sweep;
 mod view;
 
 pub use gain::{Gain, GainEstimate, NearField};
-pub use scanner::{expected_gain, scan, seen_walls, true_gain, ScanOutcome};
+pub use observed::{observed_walls, Neighbours, RangeImage, GAP_CELLS, NUDGE_CELLS, RANGE_BINS};
+pub use scanner::{expected_gain, scan, scan_by, seen_walls, true_gain, ScanOutcome};
 pub use shadowcast::visible_cells;
 pub use sight::{sight_clear, target_in_sight, LinkRule, SightField};
 pub use sight_sweep::certain_cells;

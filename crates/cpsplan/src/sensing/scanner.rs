@@ -4,6 +4,8 @@
 use serde::{Deserialize, Serialize};
 
 use super::visible_cells;
+#[cfg(doc)]
+use super::RangeImage;
 use crate::geom::Cell;
 use crate::grid::{CellState, GridGeometry, OccupancyGrid};
 
@@ -40,6 +42,7 @@ pub fn scan(
     let t = truth.cells();
     scan_by(
         |i| t[i] != CellState::Free,
+        |_| true,
         knowledge,
         at,
         range_cells,
@@ -50,9 +53,12 @@ pub fn scan(
 /// [`scan`] with the walls given by `solid(index)` instead of a ground truth:
 /// a real scan, whose walls are the cells its points lie on (and those known
 /// before, [`crate::sensing::observed_walls`]). Every cell the sweep sees is
-/// recorded Free unless `solid` says it holds a wall.
+/// recorded: Occupied where `solid` says it holds a wall, else Free where
+/// `keep(index)` accepts it (a real scan keeps only the free space its
+/// returns show, [`RangeImage`]).
 pub fn scan_by(
     solid: impl Fn(usize) -> bool,
+    keep: impl Fn(usize) -> bool,
     knowledge: &mut OccupancyGrid,
     at: Cell,
     range_cells: f64,
@@ -69,9 +75,11 @@ pub fn scan_by(
             if solid(i) {
                 out.new_occupied += 1;
                 k[i] = CellState::Occupied;
-            } else {
+            } else if keep(i) {
                 out.new_free += 1;
                 k[i] = CellState::Free;
+            } else {
+                return;
             }
             on_new(i);
         }
