@@ -45,6 +45,10 @@ pub enum Command {
     /// campaign time against the scans, per map and condition, as SVG and PNG, and
     /// the headline figures as Markdown and CSV.
     Report(ReportArgs),
+    /// A real team's campaign, one scan at a time: `init` a directory, `add`
+    /// each scan's cloud and total-station readings to get the next plan,
+    /// `status`, `export` the registered model, the map and the page.
+    Campaign(commands::campaign::CampaignArgs),
 }
 
 /// Options of `cpsplan report`.
@@ -506,7 +510,8 @@ fn parse_seed(s: &str) -> Result<u64, String> {
         .map_err(|_| "expected a whole number from 0 to 18446744073709551615".to_string())
 }
 
-fn parse_point(s: &str) -> Result<Point, String> {
+/// `X,Y` in metres.
+pub(crate) fn parse_point(s: &str) -> Result<Point, String> {
     let parts: Vec<&str> = s.split(',').map(str::trim).collect();
     let [x, y] = parts.as_slice() else {
         return Err(format!("expected X,Y in metres, got `{s}`"));
@@ -535,6 +540,15 @@ fn parse_list(s: &str, n: usize, what: &str) -> Result<Vec<f64>, String> {
                 .ok_or_else(|| format!("`{t}` is not a number in `{s}`"))
         })
         .collect()
+}
+
+/// `LOW,HIGH` heights in metres, `LOW < HIGH`.
+pub(crate) fn parse_wall_band(s: &str) -> Result<[f64; 2], String> {
+    let v = parse_list(s, 2, "LOW,HIGH in metres")?;
+    if v[0] >= v[1] {
+        return Err(format!("`{s}`: LOW must be below HIGH"));
+    }
+    Ok([v[0], v[1]])
 }
 
 fn parse_pair(s: &str) -> Result<(f64, f64), String> {
@@ -723,6 +737,7 @@ pub fn run() -> Result<()> {
         Command::Bound(args) => commands::bound::run(&args),
         Command::Experiment(args) => commands::experiment::run(&args),
         Command::Report(args) => commands::report::run(&args),
+        Command::Campaign(args) => commands::campaign::run(&args),
     }
 }
 

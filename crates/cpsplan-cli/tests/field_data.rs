@@ -37,6 +37,7 @@ fn every_scan_has_its_cloud_and_readings() {
     names.sort();
     let mut expected: Vec<String> = (1..=scans)
         .flat_map(|n| [format!("readings-{n:04}.csv"), format!("scan-{n:04}.ply")])
+        .chain(["field.json".to_string(), "config.toml".to_string()])
         .collect();
     expected.sort();
     assert_eq!(names, expected);

@@ -43,7 +43,31 @@ fn is_field_file(name: &str) -> bool {
             .and_then(|r| r.strip_suffix(suffix))
             .is_some_and(|n| !n.is_empty() && n.bytes().all(|b| b.is_ascii_digit()))
     };
-    numbered("readings-", ".csv") || numbered("scan-", ".ply")
+    numbered("readings-", ".csv")
+        || numbered("scan-", ".ply")
+        || name == FIELD_JSON
+        || name == FIELD_CONFIG
+}
+
+/// The file of `--field-data` that says how to start a campaign on it.
+pub const FIELD_JSON: &str = "field.json";
+
+/// The run's configuration in `--field-data`, for `campaign init --config`.
+pub const FIELD_CONFIG: &str = "config.toml";
+
+/// `field.json`: what `campaign init` needs to replay the field data.
+#[derive(Debug, serde::Serialize)]
+struct FieldInit {
+    /// The first scan's station, world frame.
+    start: cpsplan::Point,
+    /// Where the simulated instrument's zero points, degrees.
+    heading_deg: f64,
+    /// The map's area `[x0, y0, x1, y1]`, metres (`campaign init --area`).
+    area: [f64; 4],
+    /// Scans, one cloud and one readings file each.
+    scans: usize,
+    /// The command that starts a campaign on these data.
+    init: String,
 }
 
 /// Writes `--field-data`: every scan's cloud in the scanner's frame, and its
@@ -56,6 +80,25 @@ fn write_field_data(
 ) -> Result<()> {
     let scans = field_readings(episode)
         .context("--field-data: the episode's network cannot be simulated")?;
+    let g = truth.geometry();
+    let (w, h) = g.extent();
+    let area = [g.origin.x, g.origin.y, g.origin.x + w, g.origin.y + h];
+    let start = episode.start;
+    let init = FieldInit {
+        start,
+        heading_deg: 0.0,
+        area,
+        scans: scans.len(),
+        init: format!(
+            "cpsplan campaign init CAMPAIGN --start {:?},{:?} --area {:?},{:?},{:?},{:?} --config {}",
+            start.x, start.y, area[0], area[1], area[2], area[3], FIELD_CONFIG
+        ),
+    };
+    let mut json = serde_json::to_vec_pretty(&init)?;
+    json.push(b'\n');
+    write_atomic(&dir.join(FIELD_JSON), &json)?;
+    let toml = toml::to_string(config).context("--field-data: the configuration as TOML")?;
+    write_atomic(&dir.join(FIELD_CONFIG), toml.as_bytes())?;
     for (k, readings) in scans.iter().enumerate() {
         let text = write_readings(readings);
         write_atomic(&dir.join(readings_file_name(k + 1)), text.as_bytes())?;

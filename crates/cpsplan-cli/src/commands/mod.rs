@@ -2,6 +2,7 @@
 //! [`crate::cli`].
 
 pub mod bound;
+pub mod campaign;
 pub mod experiment;
 pub mod explore;
 pub mod grid;

@@ -677,13 +677,23 @@ pub fn save_map(grid: &OccupancyGrid, yaml_path: &Path) -> Result<(), FormatErro
     save_map_with_notes(grid, yaml_path, &[])
 }
 
-/// [`save_map`] with `notes` as comment lines at the top of the YAML (where the
-/// map came from, units converted).
-pub fn save_map_with_notes(
+/// A map encoded for [`save_map`]: the YAML, and the image with its path.
+#[derive(Debug, Clone, PartialEq)]
+pub struct EncodedMap {
+    /// The YAML text.
+    pub yaml: String,
+    /// Where the image goes: beside the YAML, its stem with `.pgm`.
+    pub image_path: PathBuf,
+    /// The PGM image.
+    pub pgm: Vec<u8>,
+}
+
+/// The YAML and image [`save_map_with_notes`] writes for `grid` at `yaml_path`.
+pub fn encode_map(
     grid: &OccupancyGrid,
     yaml_path: &Path,
     notes: &[String],
-) -> Result<(), FormatError> {
+) -> Result<EncodedMap, FormatError> {
     let g = grid.geometry();
     if g.is_empty() {
         return Err(FormatError::bad(yaml_path, "grid", "the grid has no cells"));
@@ -744,6 +754,25 @@ pub fn save_map_with_notes(
     let _ = writeln!(yaml, "free_thresh: {DEFAULT_FREE_THRESH:?}");
     let _ = writeln!(yaml, "mode: trinary");
 
+    Ok(EncodedMap {
+        yaml,
+        image_path,
+        pgm,
+    })
+}
+
+/// [`save_map`] with `notes` as comment lines at the top of the YAML (where the
+/// map came from, units converted).
+pub fn save_map_with_notes(
+    grid: &OccupancyGrid,
+    yaml_path: &Path,
+    notes: &[String],
+) -> Result<(), FormatError> {
+    let EncodedMap {
+        yaml,
+        image_path,
+        pgm,
+    } = encode_map(grid, yaml_path, notes)?;
     let image_tmp = write_temp(&image_path, &pgm)?;
     let yaml_tmp = match write_temp(yaml_path, yaml.as_bytes()) {
         Ok(t) => t,

@@ -10,8 +10,9 @@
 //!
 //! A scan records in the knowledge map what the loop's own scanner would:
 //! the sweep of [`crate::sensing::scan_by`] with the scan's walls and the walls
-//! known before stopping the beams. The team stands where the adjustment put
-//! it when that cell is known free, else where the plan sent it.
+//! known before stopping the beams, up to the returns of its range image. The
+//! team stands where the adjustment put it, wherever the plan sent it; when
+//! the plan stops but the team scanned again, the campaign goes on from there.
 
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
@@ -183,17 +184,14 @@ impl ScanSource for Recorded<'_> {
     fn arrive(&mut self, planned: Moved, knowledge: &OccupancyGrid) -> Option<Moved> {
         let s = self.scans.get(self.next)?;
         let g = knowledge.geometry();
-        let free = |p: Point| {
-            g.world_to_cell(p)
-                .filter(|&c| knowledge.get(c) == CellState::Free)
-        };
-        let parent = free(s.station).unwrap_or(planned.parent);
+        // The team scanned where it stood, whatever the map knew there.
+        let parent = g.world_to_cell(s.station).unwrap_or(planned.parent);
         let mut children: Vec<Cell> = Vec::with_capacity(planned.children.len());
         for (i, &plan) in planned.children.iter().enumerate() {
             let at = s
                 .children
                 .get(i)
-                .and_then(|&p| free(p))
+                .and_then(|&p| g.world_to_cell(p))
                 .filter(|c| *c != parent && !children.contains(c));
             children.push(at.unwrap_or(plan));
         }
@@ -201,6 +199,38 @@ impl ScanSource for Recorded<'_> {
             parent,
             children,
             ..planned
+        })
+    }
+
+    fn forced(
+        &mut self,
+        parent: Cell,
+        children: &[Cell],
+        knowledge: &OccupancyGrid,
+    ) -> Option<Moved> {
+        let s = self.scans.get(self.next)?;
+        let g = knowledge.geometry();
+        let to = g.world_to_cell(s.station)?;
+        let cells: Vec<Cell> = if s.children.len() == children.len() {
+            s.children
+                .iter()
+                .zip(children)
+                .map(|(&p, &c)| g.world_to_cell(p).unwrap_or(c))
+                .collect()
+        } else {
+            children.to_vec()
+        };
+        // Not planned: the straight lines stand for the paths driven.
+        let length = |a: Cell, b: Cell| g.cell_center(a).distance(g.cell_center(b));
+        Some(Moved {
+            parent: to,
+            child_lengths: children
+                .iter()
+                .zip(&cells)
+                .map(|(&a, &b)| length(a, b))
+                .collect(),
+            children: cells,
+            parent_length: length(parent, to),
         })
     }
 }

@@ -639,49 +639,51 @@ pub(crate) fn run_loop<S: ScanSource>(
             retrievals += usize::from(step.movement.subgoal_retrieval);
         }
         steps.push(step);
-        match (decision, moved) {
-            (Decision::Complete, _) => break Some(StopReason::Complete),
-            (Decision::FrontierBelowThreshold, _) => {
-                break Some(StopReason::FrontierBelowThreshold)
-            }
-            (Decision::NoReachableFrontier, _) => break Some(StopReason::NoReachableFrontier),
-            (Decision::Target { .. }, _) if at_limit => break Some(StopReason::ScanLimit),
-            (Decision::Target { .. }, _) if diminishing => {
-                break Some(StopReason::DiminishingReturns)
-            }
+        let stop = match (decision, &moved) {
+            (Decision::Complete, _) => Some(StopReason::Complete),
+            (Decision::FrontierBelowThreshold, _) => Some(StopReason::FrontierBelowThreshold),
+            (Decision::NoReachableFrontier, _) => Some(StopReason::NoReachableFrontier),
+            (Decision::Target { .. }, _) if at_limit => Some(StopReason::ScanLimit),
+            (Decision::Target { .. }, _) if diminishing => Some(StopReason::DiminishingReturns),
             (Decision::Target { index }, None) if is_fallback(&steps, index) => {
-                break Some(StopReason::NoReachableFrontier)
+                Some(StopReason::NoReachableFrontier)
             }
-            (Decision::Target { .. }, None) => break Some(StopReason::NoCpsMove),
-            (Decision::Target { .. }, Some(planned)) => {
-                let Some(moved) = source.arrive(planned, &knowledge) else {
-                    break None;
-                };
-                let last = steps.last();
-                expected = last
-                    .and_then(|s| s.movement.target.and_then(|t| s.plan.candidates.get(t)))
-                    .map(|c| (c.gain_m2, c.s_cells));
-                let cycles = last.map_or(0, |s| s.movement.cycles.len());
-                clock.moved(
-                    cycles,
-                    moved.parent_length + moved.child_lengths.iter().sum::<f64>(),
-                );
-                clock.measured(last.map_or(0, |s| {
-                    s.movement
-                        .cycles
-                        .iter()
-                        .map(|c| c.targets.len() + c.left_targets.len())
-                        .sum()
-                }));
-                here = moved.parent;
-                travel += moved.parent_length;
-                if !moved.children.is_empty() {
-                    children = moved.children;
-                }
-                for (t, l) in child_travel.iter_mut().zip(moved.child_lengths) {
-                    *t += l;
-                }
-            }
+            (Decision::Target { .. }, None) => Some(StopReason::NoCpsMove),
+            (Decision::Target { .. }, Some(_)) => None,
+        };
+        let arrived = match (stop, moved) {
+            (None, Some(planned)) => source.arrive(planned, &knowledge),
+            // The plan stops, but a real team may have scanned again.
+            (Some(_), _) => source.forced(here, &children, &knowledge),
+            (None, None) => None,
+        };
+        let Some(moved) = arrived else {
+            break stop;
+        };
+        // The planned move, unless the plan stopped and the team moved anyway.
+        let last = steps.last().filter(|_| stop.is_none());
+        expected = last
+            .and_then(|s| s.movement.target.and_then(|t| s.plan.candidates.get(t)))
+            .map(|c| (c.gain_m2, c.s_cells));
+        let cycles = last.map_or(0, |s| s.movement.cycles.len());
+        clock.moved(
+            cycles,
+            moved.parent_length + moved.child_lengths.iter().sum::<f64>(),
+        );
+        clock.measured(last.map_or(0, |s| {
+            s.movement
+                .cycles
+                .iter()
+                .map(|c| c.targets.len() + c.left_targets.len())
+                .sum()
+        }));
+        here = moved.parent;
+        travel += moved.parent_length;
+        if !moved.children.is_empty() {
+            children = moved.children;
+        }
+        for (t, l) in child_travel.iter_mut().zip(moved.child_lengths) {
+            *t += l;
         }
     };
     let all_free = source.truth().map_or(0, |t| {

@@ -26,6 +26,16 @@ pub trait ScanSource {
     /// Where the team stands for the next scan after the move `planned`, on
     /// `knowledge` (`None`: no further scan is known yet).
     fn arrive(&mut self, planned: Moved, knowledge: &OccupancyGrid) -> Option<Moved>;
+
+    /// Where the team stands for the next scan although the plan stopped at
+    /// `parent` with `children` (`None`: there is no next scan; a
+    /// simulation stops where its plan does).
+    fn forced(
+        &mut self,
+        parent: Cell,
+        children: &[Cell],
+        knowledge: &OccupancyGrid,
+    ) -> Option<Moved>;
 }
 
 /// A simulation: scans see the ground truth, the team arrives where planned.
@@ -52,5 +62,9 @@ impl ScanSource for Simulated<'_> {
 
     fn arrive(&mut self, planned: Moved, _: &OccupancyGrid) -> Option<Moved> {
         Some(planned)
+    }
+
+    fn forced(&mut self, _: Cell, _: &[Cell], _: &OccupancyGrid) -> Option<Moved> {
+        None
     }
 }
