@@ -43,6 +43,7 @@ mod memory;
 mod record;
 mod source;
 mod step;
+mod stop;
 mod targets;
 mod team;
 mod tolerance;
