@@ -420,6 +420,11 @@ pub struct ExploreArgs {
     /// from). Needs two children or more.
     #[arg(long, value_name = "DIR")]
     pub field_data: Option<PathBuf>,
+    /// Write the campaign as ROS 2 messages in an MCAP file: the knowledge
+    /// map, the registered scans, the stations, every robot's path, the plans
+    /// and tf (docs/USER-GUIDE.md "Robot software").
+    #[arg(long, value_name = "FILE.mcap")]
+    pub mcap_out: Option<PathBuf>,
     /// Height of the walls of the 3D model, metres.
     #[arg(long, value_name = "M", allow_hyphen_values = true, value_parser = parse_real,
           help = with_default("Height of the walls of the 3D model, metres", defaults().model.wall_height))]

@@ -351,3 +351,69 @@ fn the_first_scan_is_taken_at_the_start() {
     let out = run_ok(&["campaign", "status", camp.to_str().unwrap()]);
     assert!(out.contains("no scan yet"), "{out}");
 }
+
+/// The topics every `--mcap-out` file carries (the independent decoding is
+/// `ci/check_mcap.py`, with Python's `mcap` and `mcap-ros2-support`).
+fn assert_mcap(path: &Path) {
+    let bytes = std::fs::read(path).unwrap();
+    assert!(bytes.starts_with(b"\x89MCAP0\r\n"), "MCAP magic");
+    assert!(bytes.ends_with(b"\x89MCAP0\r\n"), "MCAP magic at the end");
+    let text = String::from_utf8_lossy(&bytes);
+    for topic in [
+        "/map",
+        "/cpsplan/scans",
+        "/cpsplan/stations",
+        "/cpsplan/path/parent",
+        "/cpsplan/path/child1",
+        "/cpsplan/plan",
+        "/tf",
+        "nav_msgs/msg/OccupancyGrid",
+        "visualization_msgs/msg/MarkerArray",
+    ] {
+        assert!(text.contains(topic), "{topic} in {}", path.display());
+    }
+}
+
+#[test]
+fn explore_and_add_write_the_campaign_as_ros2_messages() {
+    let tmp = tempfile::tempdir().unwrap();
+    let mcap = tmp.path().join("run.mcap");
+    cpsplan()
+        .args([
+            "explore",
+            "-q",
+            "--builtin",
+            "site",
+            "--max-scans",
+            "3",
+            "--out",
+        ])
+        .arg(tmp.path().join("out"))
+        .arg("--mcap-out")
+        .arg(&mcap)
+        .assert()
+        .success();
+    assert_mcap(&mcap);
+    let (_, field) = field_data(tmp.path(), "site", Some(3));
+    let camp = tmp.path().join("campaign");
+    init(&field, &camp);
+    let live = tmp.path().join("live.mcap");
+    for n in 1..=2 {
+        let (scan, readings) = scan_files(&field, n);
+        let mut args = add_args(&camp, &scan, &readings);
+        args.extend(["--mcap-out".to_string(), live.display().to_string()]);
+        let args: Vec<&str> = args.iter().map(String::as_str).collect();
+        run_ok(&args);
+    }
+    assert_mcap(&live);
+    // A refused add writes no MCAP file.
+    let (_, readings) = scan_files(&field, 3);
+    let other = tmp.path().join("other.mcap");
+    let bad = tmp.path().join("bad.ply");
+    std::fs::write(&bad, b"ply\nformat ascii 1.0\n").unwrap();
+    let mut args = add_args(&camp, &bad, &readings);
+    args.extend(["--mcap-out".to_string(), other.display().to_string()]);
+    let args: Vec<&str> = args.iter().map(String::as_str).collect();
+    refused(&args, "bad.ply");
+    assert!(!other.exists());
+}

@@ -15,6 +15,7 @@ use indicatif::{ProgressBar, ProgressStyle};
 use super::{check_memory, load_truth, read_config, validate};
 use crate::cli::{ExploreArgs, ScoringArg};
 use crate::formats::cloud::{encode_las, encode_ply, encode_stations_ply};
+use crate::formats::mcap_out::{clock_ns, McapOut};
 use crate::formats::readings::write_readings;
 use crate::formats::rosmap::ReadLimits;
 use crate::formats::targets::read_targets;
@@ -118,6 +119,28 @@ fn write_field_data(
     })
     .context("--field-data")?;
     failed.map_or(Ok(()), Err)
+}
+
+/// Every scan station of `episode` (its estimate where it has one) with its
+/// covariance (smoothed where the network was adjusted).
+fn write_mcap_stations(m: &mut McapOut, episode: &cpsplan::Episode) -> Result<()> {
+    for step in &episode.steps {
+        let at = step
+            .smoothed_estimate
+            .or(step.estimate)
+            .map_or(step.position, |e| e.position);
+        let cov = step
+            .smoothed_covariance_m2
+            .or(step.covariance_m2)
+            .unwrap_or([[0.0; 2]; 2]);
+        let heading = step
+            .smoothed_heading_sigma_arcsec
+            .or(step.heading_sigma_arcsec)
+            .unwrap_or(0.0)
+            * cpsplan::accuracy::ARCSEC;
+        m.station(clock_ns(step.clock_h), at, 0.0, cov, heading * heading)?;
+    }
+    Ok(())
 }
 
 /// Builds the run's configuration: defaults, then the TOML file, then flags.
@@ -265,7 +288,19 @@ pub fn run(args: &ExploreArgs) -> Result<()> {
     let mut page = args
         .html
         .then(|| crate::html::PageRecorder::new(*truth.geometry()));
+    let mut mcap = args
+        .mcap_out
+        .as_ref()
+        .map(|_| McapOut::new(config.children.count))
+        .transpose()?;
+    let mut mcap_error = None;
     let episode = run_episode_with(&truth, start, &config, |step, knowledge| {
+        if let (Some(m), None) = (mcap.as_mut(), mcap_error.as_ref()) {
+            let ns = clock_ns(step.clock_h);
+            if let Err(e) = m.map(ns, knowledge).and_then(|()| m.step(ns, step)) {
+                mcap_error = Some(e);
+            }
+        }
         if let Some(page) = page.as_mut() {
             page.record(step, knowledge, &config);
         }
@@ -289,11 +324,21 @@ pub fn run(args: &ExploreArgs) -> Result<()> {
     if let Some((scan, e)) = figure_error {
         bail!("cannot draw the figure of step {scan}: {e}");
     }
+    if let Some(e) = mcap_error {
+        return Err(e.context("--mcap-out"));
+    }
     let mut points = Vec::new();
     let mut model_warning = None;
-    let model = match build_model(&truth, &episode, &config, |_, p| {
+    let mut scan_error = None;
+    let model = match build_model(&truth, &episode, &config, |k, p| {
         if cloud_format.is_some() {
             points.extend_from_slice(p);
+        }
+        if let (Some(m), Some(step)) = (mcap.as_mut(), episode.steps.get(k as usize)) {
+            let xyz: Vec<[f64; 3]> = p.iter().map(|q| q.position).collect();
+            if let Err(e) = m.scan(clock_ns(step.clock_h), &xyz) {
+                scan_error.get_or_insert(e);
+            }
         }
     }) {
         Ok(m) => Some(m),
@@ -303,6 +348,12 @@ pub fn run(args: &ExploreArgs) -> Result<()> {
         }
         Err(e) => bail!("--cloud-out: {e}"),
     };
+    if let Some(e) = scan_error {
+        return Err(e.context("--mcap-out"));
+    }
+    if let Some(m) = mcap.as_mut() {
+        write_mcap_stations(m, &episode).context("--mcap-out")?;
+    }
     // The model in the filtering poses too, for its accuracy, where the episode
     // has smoothed ones.
     let filtering = match &model {
@@ -345,6 +396,10 @@ pub fn run(args: &ExploreArgs) -> Result<()> {
     if let Some(field) = &field {
         write_field_data(field.path(), &truth, &episode, &config)?;
     }
+    let mcap = match (&args.mcap_out, mcap) {
+        (Some(path), Some(m)) => Some((path, m.finish(path).context("--mcap-out")?)),
+        _ => None,
+    };
     report.commit()?;
     if let Some(field) = field {
         field.commit()?;
@@ -352,6 +407,9 @@ pub fn run(args: &ExploreArgs) -> Result<()> {
     if let (Some(path), Some((cloud, stations))) = (&args.cloud_out, cloud) {
         cloud.persist(path)?;
         stations.persist(&stations_path(path))?;
+    }
+    if let Some((path, tmp)) = mcap {
+        tmp.persist(path)?;
     }
     let scans = episode.steps.len();
     let mut missing: Vec<usize> = args

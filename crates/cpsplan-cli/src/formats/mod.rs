@@ -2,8 +2,10 @@
 
 pub mod cloud;
 pub mod config;
+pub mod mcap_out;
 mod png_chunks;
 mod pnm;
 pub mod readings;
+pub mod ros2;
 pub mod rosmap;
 pub mod targets;

@@ -23,6 +23,7 @@ use super::store::{
     field_scans, scan_path, wall_points, CampaignFile, Change, Poses, ScanEntry, ScanRecord,
 };
 use crate::formats::cloud::{read_cloud, CloudFormat, CloudReadOptions};
+use crate::formats::mcap_out::{clock_ns, McapOut};
 use crate::formats::readings::read_readings;
 use crate::formats::rosmap::{encode_map, ReadLimits};
 use crate::render::{render_step, StepView};
@@ -41,6 +42,10 @@ pub struct AddArgs {
     /// docs/USER-GUIDE.md "Readings"); the first scan's may hold only a header.
     #[arg(long, value_name = "FILE.csv")]
     pub readings: PathBuf,
+    /// Also write the campaign so far as ROS 2 messages in an MCAP file
+    /// (docs/USER-GUIDE.md "Robot software").
+    #[arg(long, value_name = "FILE.mcap")]
+    pub mcap_out: Option<PathBuf>,
     /// Print nothing but errors.
     #[arg(long, short)]
     pub quiet: bool,
@@ -199,7 +204,35 @@ pub fn run(args: &AddArgs) -> Result<()> {
     let prior = state.prior_grid(dir)?;
     let scans = field_scans(&records, &poses_of(&survey), &state.grid)?;
     let mut last: Option<OccupancyGrid> = None;
-    let run = run_campaign(prior, &scans, &config, |_, k| last = Some(k.clone()))?;
+    let mut mcap = args
+        .mcap_out
+        .as_ref()
+        .map(|_| McapOut::new(config.children.count))
+        .transpose()?;
+    let mut mcap_error = None;
+    let run = run_campaign(prior, &scans, &config, |step, k| {
+        last = Some(k.clone());
+        if let (Some(m), None) = (mcap.as_mut(), mcap_error.as_ref()) {
+            let ns = clock_ns(step.clock_h);
+            if let Err(e) = m.map(ns, k).and_then(|()| m.step(ns, step)) {
+                mcap_error = Some(e);
+            }
+        }
+    })?;
+    if let Some(e) = mcap_error {
+        return Err(e.context("--mcap-out"));
+    }
+    if let Some(m) = mcap.as_mut() {
+        let clouds: Vec<PathBuf> = state
+            .scans
+            .iter()
+            .map(|s| dir.join(&s.cloud))
+            .chain(std::iter::once(args.scan.clone()))
+            .collect();
+        let poses = poses_of(&survey);
+        write_mcap_scans(m, &run, &records, &clouds, &poses, &survey, &config)
+            .context("--mcap-out")?;
+    }
     let knowledge = run.episode.knowledge.clone().unwrap_or_else(|| {
         last.clone()
             .unwrap_or_else(|| OccupancyGrid::filled(state.grid, cpsplan::grid::CellState::Unknown))
@@ -252,7 +285,14 @@ pub fn run(args: &AddArgs) -> Result<()> {
         record: record_name,
         station: station.clone(),
     });
+    let mcap = match (&args.mcap_out, mcap) {
+        (Some(path), Some(m)) => Some((path, m.finish(path).context("--mcap-out")?)),
+        _ => None,
+    };
     change.commit(dir, &state)?;
+    if let Some((path, tmp)) = mcap {
+        tmp.persist(path)?;
+    }
     if !args.quiet {
         for l in &left_out {
             eprintln!("warning: left out as a blunder: {l}");
@@ -318,6 +358,51 @@ pub(super) fn poses_of(survey: &Survey) -> Poses {
         .iter()
         .map(|a| (a.name.clone(), (a.position(), 0.0)));
     station.chain(points).collect()
+}
+
+/// Every scan's registered cloud and station into `m`, stamped with the
+/// replay's clock.
+fn write_mcap_scans(
+    m: &mut McapOut,
+    run: &cpsplan::mission::CampaignRun,
+    records: &[ScanRecord],
+    clouds: &[PathBuf],
+    poses: &Poses,
+    survey: &Survey,
+    config: &Config,
+) -> Result<()> {
+    let options = CloudReadOptions::default();
+    let lift = config.model.scanner_height;
+    for (k, (r, path)) in records.iter().zip(clouds).enumerate() {
+        let ns = run.episode.steps.get(k).map_or(0, |s| clock_ns(s.clock_h));
+        let &(at, heading) = poses
+            .get(&r.name)
+            .with_context(|| format!("station {} is not in the network", r.name))?;
+        let cloud = read_cloud(path, &options, &mut |_, _| {})?;
+        let (s, c) = heading.sin_cos();
+        let points: Vec<[f64; 3]> = cloud
+            .points
+            .iter()
+            .map(|q| {
+                [
+                    at.x + c * q[0] - s * q[1],
+                    at.y + s * q[0] + c * q[1],
+                    q[2] + lift,
+                ]
+            })
+            .collect();
+        m.scan(ns, &points)?;
+        let a = survey.get(&r.name).context("a station of the network")?;
+        let n = a.value.len();
+        m.station(
+            ns,
+            at,
+            heading,
+            a.covariance_2d(),
+            a.covariance[(n - 1, n - 1)],
+        )?;
+    }
+    Ok(())
 }
 
 /// The lines `add` prints.
