@@ -672,6 +672,7 @@ where
                 "bound",
                 "experiment",
                 "report",
+                "campaign",
             ]
             .contains(a)
         })
@@ -733,7 +734,17 @@ pub fn one_line(error: &anyhow::Error) -> String {
 
 /// Parses the process arguments and runs the command.
 pub fn run() -> Result<()> {
-    match parse(std::env::args_os())?.command {
+    run_args(std::env::args_os())
+}
+
+/// Runs the command line `args` (the program's name first) as `cpsplan`
+/// does: the entry point of the Python package.
+pub fn run_args<I, T>(args: I) -> Result<()>
+where
+    I: IntoIterator<Item = T>,
+    T: Into<std::ffi::OsString> + Clone,
+{
+    match parse(args)?.command {
         Command::Explore(args) => commands::explore::run(&args),
         Command::Maps(args) => commands::maps::run(&args),
         Command::Plan(args) => commands::plan::run(&args),
