@@ -635,3 +635,123 @@ fn resection(
     }
     Some(guess)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::accuracy::Instrument;
+    use crate::config::InstrumentConfig;
+    use proptest::prelude::*;
+
+    fn model(three_d: bool) -> Model {
+        let config = InstrumentConfig {
+            three_d,
+            ..InstrumentConfig::default()
+        };
+        Model::new(Instrument::from_config(&config))
+    }
+
+    /// Noise-free readings of a chain of CPS cycles: from each station the
+    /// children's new spots, then the next station (turned by `headings`)
+    /// measures both children.
+    fn chain(
+        model: Model,
+        moves: &[((f64, f64), (f64, f64), f64)],
+    ) -> (Vec<Reading>, Vec<(String, DVector<f64>)>) {
+        let mut readings = Vec::new();
+        let mut stations = vec![(
+            "S0000".to_string(),
+            model.station(Point::new(0.0, 0.0), 0.3),
+        )];
+        for (k, &((c1x, c1y), (sx, sy), omega)) in moves.iter().enumerate() {
+            let (name, station) = stations.last().cloned().expect("a station");
+            // Child 1 moves near the station, child 2 stands beside it.
+            let c1 = model.point(Point::new(station[0] + c1x, station[1] + c1y));
+            let c2 = model.point(Point::new(station[0] - c1y, station[1] + c1x));
+            let next = model.station(Point::new(station[0] + sx, station[1] + sy), omega);
+            let spot = k + 1;
+            let names = [format!("C1.{spot:04}"), format!("C2.{spot:04}")];
+            for (n, c) in names.iter().zip([&c1, &c2]) {
+                let z = model.observe(station.as_slice(), c.as_slice());
+                readings.push(Reading::from_observation(&name, n, &model, z.as_slice()));
+            }
+            let next_name = format!("S{:04}", k + 1);
+            for (n, c) in names.iter().zip([&c1, &c2]) {
+                let z = model.observe(next.as_slice(), c.as_slice());
+                readings.push(Reading::from_observation(
+                    &next_name,
+                    n,
+                    &model,
+                    z.as_slice(),
+                ));
+            }
+            stations.push((next_name, next));
+        }
+        (readings, stations)
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(48))]
+
+        /// Noise-free readings, named as a survey names them and in any
+        /// instrument orientation, adjust to the stations that took them.
+        #[test]
+        fn exact_readings_give_the_true_stations(
+            moves in proptest::collection::vec(
+                ((2.0f64..8.0, 1.0f64..8.0), (-6.0f64..6.0, 3.0f64..9.0), -3.1f64..3.1),
+                1..6,
+            ),
+            three_d in any::<bool>(),
+        ) {
+            let model = model(three_d);
+            let (readings, stations) = chain(model, &moves);
+            let datum = Datum {
+                station: "S0000".into(),
+                position: Point::new(0.0, 0.0),
+                heading_rad: 0.3,
+            };
+            let survey = adjust_readings(model, &datum, &[], &readings, 0).unwrap();
+            prop_assert!(survey.left_out.is_empty());
+            prop_assert_eq!(survey.stations.len(), stations.len());
+            for (name, truth) in &stations {
+                let got = survey.get(name).unwrap();
+                let d = (&got.value - truth).map(f64::abs);
+                let n = d.len();
+                // The heading modulo a turn.
+                let turn = (got.value[n - 1] - truth[n - 1]).rem_euclid(std::f64::consts::TAU);
+                prop_assert!(d.rows(0, n - 1).max() < 1e-6, "{name}: {d}");
+                prop_assert!(turn.min(std::f64::consts::TAU - turn) < 1e-8, "{name}: {turn}");
+            }
+        }
+    }
+
+    #[test]
+    fn a_station_with_one_known_point_is_too_few() {
+        let model = model(false);
+        let (mut readings, _) = chain(model, &[((3.0, 2.0), (1.0, 5.0), 0.0)]);
+        // S0001 keeps only its reading to child 2.
+        readings.retain(|r| !(r.station == "S0001" && r.point == "C1.0001"));
+        let datum = Datum {
+            station: "S0000".into(),
+            position: Point::new(0.0, 0.0),
+            heading_rad: 0.3,
+        };
+        let err = adjust_readings(model, &datum, &[], &readings, 0).unwrap_err();
+        assert_eq!(
+            err,
+            SurveyError::TooFewKnown {
+                station: "S0001".into(),
+                known: 1
+            }
+        );
+    }
+
+    #[test]
+    fn child_markers_name_the_child_and_the_spot() {
+        assert_eq!(child_spot("C1.0003"), Some((0, 3)));
+        assert_eq!(child_spot("C12.7"), Some((11, 7)));
+        for bad in ["C0.0001", "C1", "C1.", "C.1", "P1", "C1.0a", "c1.0001"] {
+            assert_eq!(child_spot(bad), None, "{bad}");
+        }
+    }
+}
