@@ -654,10 +654,11 @@ mod tests {
     /// Noise-free readings of a chain of CPS cycles: from each station the
     /// children's new spots, then the next station (turned by `headings`)
     /// measures both children.
-    fn chain(
-        model: Model,
-        moves: &[((f64, f64), (f64, f64), f64)],
-    ) -> (Vec<Reading>, Vec<(String, DVector<f64>)>) {
+    /// One cycle: child 1's offset from the station, the next station's
+    /// offset, its heading.
+    type Move = ((f64, f64), (f64, f64), f64);
+
+    fn chain(model: Model, moves: &[Move]) -> (Vec<Reading>, Vec<(String, DVector<f64>)>) {
         let mut readings = Vec::new();
         let mut stations = vec![(
             "S0000".to_string(),
