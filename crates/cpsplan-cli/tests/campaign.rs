@@ -315,6 +315,13 @@ fn a_directory_of_another_version_or_none_is_refused() {
     let text = std::fs::read_to_string(&state).unwrap();
     std::fs::write(&state, text.replace("\"version\": 1", "\"version\": 2")).unwrap();
     refused_unchanged(&camp, &scan, &readings, "format version 2");
+    // A grid beyond the limits is refused before anything is allocated.
+    std::fs::write(
+        &state,
+        text.replace("\"width\": 800", "\"width\": 1000000000000"),
+    )
+    .unwrap();
+    refused_unchanged(&camp, &scan, &readings, "damaged");
     std::fs::write(&state, "{ not json").unwrap();
     refused_unchanged(&camp, &scan, &readings, "damaged");
     let foreign = tmp.path().join("foreign");

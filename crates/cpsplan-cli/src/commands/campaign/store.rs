@@ -198,6 +198,19 @@ impl CampaignFile {
         file.config
             .validate()
             .map_err(|e| anyhow!("{} is damaged: {e}", path.display()))?;
+        let g = &file.grid;
+        let sane = g.width > 0
+            && g.height > 0
+            && g.resolution.is_finite()
+            && g.resolution > 0.0
+            && g.origin.x.is_finite()
+            && g.origin.y.is_finite()
+            && g.yaw.is_finite();
+        if !sane {
+            bail!("{} is damaged: its grid is not usable", path.display());
+        }
+        g.check_limits(&file.config)
+            .map_err(|e| anyhow!("{} is damaged: {e}", path.display()))?;
         for (k, s) in file.scans.iter().enumerate() {
             if s.scan != k + 1 {
                 bail!(
