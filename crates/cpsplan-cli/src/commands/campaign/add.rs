@@ -275,7 +275,10 @@ pub fn run(args: &AddArgs) -> Result<()> {
     change.put("next.json", next_json);
     if let Some(step) = run.episode.steps.last() {
         let title = format!("cpsplan campaign \u{2014} after scan {n}");
-        let png = render_step(&planned_on, &StepView::from(step), &config, &title)?;
+        // A real campaign knows no ground truth to state a coverage against.
+        let mut view = StepView::from(step);
+        view.coverage = None;
+        let png = render_step(&planned_on, &view, &config, &title)?;
         change.put("next.png", png);
     }
     state.scans.push(ScanEntry {
