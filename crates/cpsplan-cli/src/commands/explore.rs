@@ -296,10 +296,7 @@ pub fn run(args: &ExploreArgs) -> Result<()> {
     let mut mcap_error = None;
     let episode = run_episode_with(&truth, start, &config, |step, knowledge| {
         if let (Some(m), None) = (mcap.as_mut(), mcap_error.as_ref()) {
-            let ns = clock_ns(step.clock_h);
-            if let Err(e) = m.map(ns, knowledge).and_then(|()| m.step(ns, step)) {
-                mcap_error = Some(e);
-            }
+            mcap_error = m.record(step, knowledge).err();
         }
         if let Some(page) = page.as_mut() {
             page.record(step, knowledge, &config);

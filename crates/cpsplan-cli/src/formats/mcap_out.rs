@@ -182,6 +182,14 @@ impl McapOut {
         self.write(id, ns, &c.into_bytes())
     }
 
+    /// A planning step and the knowledge map it planned on, stamped with the
+    /// step's campaign clock.
+    pub fn record(&mut self, step: &Step, knowledge: &OccupancyGrid) -> Result<()> {
+        let ns = clock_ns(step.clock_h);
+        self.map(ns, knowledge)?;
+        self.step(ns, step)
+    }
+
     /// A planning step at `ns`: the robots' paths so far, where they stand,
     /// and the round's plan.
     pub fn step(&mut self, ns: u64, step: &Step) -> Result<()> {

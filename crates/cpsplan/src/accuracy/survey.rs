@@ -333,7 +333,7 @@ impl Trial {
             .collect();
         let built = Built::new(model, datum, controls, readings, &kept)?;
         let mut network = Network::new(built.script.clone());
-        let values = built.values(readings, &kept);
+        let values = built.values(readings);
         let fits = network
             .extend(values, |_, v| v.truth.clone(), |_, v| v.truth.clone())
             .and_then(|()| network.adjust(ITERATIONS))
@@ -499,7 +499,7 @@ impl Built {
     }
 
     /// The kept readings' observations, in the script's order.
-    fn values(&self, readings: &[Reading], _kept: &[usize]) -> Vec<DVector<f64>> {
+    fn values(&self, readings: &[Reading]) -> Vec<DVector<f64>> {
         let model = *self.script.model();
         self.order
             .iter()

@@ -242,6 +242,21 @@ mod tests {
     use crate::world::builtin::BuiltinMap;
     use crate::{run_episode, Config};
 
+    /// The scans of `steps` as the simulation's scanner saw them: its walls,
+    /// the team where the simulation put it, no range image.
+    fn simulated_scans(truth: &OccupancyGrid, steps: &[Step], config: &Config) -> Vec<FieldScan> {
+        let solid = truth.solidified();
+        steps
+            .iter()
+            .map(|s| FieldScan {
+                station: s.position,
+                children: s.children.clone(),
+                walls: seen_walls(&solid, s.cell, config.range_cells()),
+                ranges: None,
+            })
+            .collect()
+    }
+
     /// Scans that record the walls the simulation's scanner saw, with the
     /// team where the simulation put it, give the simulation's decisions:
     /// the campaign plans through the same loop.
@@ -251,17 +266,7 @@ mod tests {
             let config = Config::default();
             let truth = map.generate(0);
             let episode = run_episode(&truth, map.default_start(), &config, |_| {}).unwrap();
-            let solid = truth.solidified();
-            let scans: Vec<FieldScan> = episode
-                .steps
-                .iter()
-                .map(|s| FieldScan {
-                    station: s.position,
-                    children: s.children.clone(),
-                    walls: seen_walls(&solid, s.cell, config.range_cells()),
-                    ranges: None,
-                })
-                .collect();
+            let scans = simulated_scans(&truth, &episode.steps, &config);
             let prior = OccupancyGrid::filled(*truth.geometry(), CellState::Unknown);
             let run = run_campaign(prior, &scans, &config, |_, _| {}).unwrap();
             assert_eq!(run.scans_used, scans.len());
@@ -286,16 +291,7 @@ mod tests {
         let config = Config::default();
         let truth = map.generate(0);
         let episode = run_episode(&truth, map.default_start(), &config, |_| {}).unwrap();
-        let solid = truth.solidified();
-        let scans: Vec<FieldScan> = episode.steps[..3]
-            .iter()
-            .map(|s| FieldScan {
-                station: s.position,
-                children: s.children.clone(),
-                walls: seen_walls(&solid, s.cell, config.range_cells()),
-                ranges: None,
-            })
-            .collect();
+        let scans = simulated_scans(&truth, &episode.steps[..3], &config);
         let prior = OccupancyGrid::filled(*truth.geometry(), CellState::Unknown);
         let run = run_campaign(prior, &scans, &config, |_, _| {}).unwrap();
         assert_eq!(run.stop, None);

@@ -16,11 +16,12 @@ use cpsplan::accuracy::{
 };
 use cpsplan::config::TargetKind;
 use cpsplan::mission::run_campaign;
-use cpsplan::{Config, OccupancyGrid, Point};
+use cpsplan::{Config, Point};
 
 use super::next::{next_plan, NextPlan};
 use super::store::{
-    field_scans, scan_path, wall_points, CampaignFile, Change, Poses, ScanEntry, ScanRecord,
+    field_scans, register, scan_path, wall_points, CampaignFile, Change, Poses, ScanEntry,
+    ScanRecord,
 };
 use crate::formats::cloud::{read_cloud, CloudFormat, CloudReadOptions};
 use crate::formats::mcap_out::{clock_ns, McapOut};
@@ -202,8 +203,8 @@ pub fn run(args: &AddArgs) -> Result<()> {
 
     // The campaign replayed to the next step, every scan at its latest pose.
     let prior = state.prior_grid(dir)?;
-    let scans = field_scans(&records, &poses_of(&survey), &state.grid)?;
-    let mut last: Option<OccupancyGrid> = None;
+    let poses = poses_of(&survey);
+    let scans = field_scans(&records, &poses, &state.grid)?;
     let mut mcap = args
         .mcap_out
         .as_ref()
@@ -211,12 +212,8 @@ pub fn run(args: &AddArgs) -> Result<()> {
         .transpose()?;
     let mut mcap_error = None;
     let run = run_campaign(prior, &scans, &config, |step, k| {
-        last = Some(k.clone());
         if let (Some(m), None) = (mcap.as_mut(), mcap_error.as_ref()) {
-            let ns = clock_ns(step.clock_h);
-            if let Err(e) = m.map(ns, k).and_then(|()| m.step(ns, step)) {
-                mcap_error = Some(e);
-            }
+            mcap_error = m.record(step, k).err();
         }
     })?;
     if let Some(e) = mcap_error {
@@ -229,15 +226,15 @@ pub fn run(args: &AddArgs) -> Result<()> {
             .map(|s| dir.join(&s.cloud))
             .chain(std::iter::once(args.scan.clone()))
             .collect();
-        let poses = poses_of(&survey);
         write_mcap_scans(m, &run, &records, &clouds, &poses, &survey, &config)
             .context("--mcap-out")?;
     }
-    let knowledge = run.episode.knowledge.clone().unwrap_or_else(|| {
-        last.clone()
-            .unwrap_or_else(|| OccupancyGrid::filled(state.grid, cpsplan::grid::CellState::Unknown))
-    });
-    let planned_on = last.unwrap_or_else(|| knowledge.clone());
+    // The loop ends right after its last step: the map that step planned on.
+    let knowledge = run
+        .episode
+        .knowledge
+        .as_ref()
+        .context("the replay keeps its knowledge map")?;
     let next = next_plan(&run, &records, &config, position, heading);
 
     // Everything computed: write it.
@@ -263,7 +260,7 @@ pub fn run(args: &AddArgs) -> Result<()> {
     record.push(b'\n');
     change.put(&record_name, record);
     let encoded = encode_map(
-        &knowledge,
+        knowledge,
         Path::new("knowledge.yaml"),
         &[format!("knowledge after scan {n}")],
     )?;
@@ -278,7 +275,7 @@ pub fn run(args: &AddArgs) -> Result<()> {
         // A real campaign knows no ground truth to state a coverage against.
         let mut view = StepView::from(step);
         view.coverage = None;
-        let png = render_step(&planned_on, &view, &config, &title)?;
+        let png = render_step(knowledge, &view, &config, &title)?;
         change.put("next.png", png);
     }
     state.scans.push(ScanEntry {
@@ -382,18 +379,7 @@ fn write_mcap_scans(
             .get(&r.name)
             .with_context(|| format!("station {} is not in the network", r.name))?;
         let cloud = read_cloud(path, &options, &mut |_, _| {})?;
-        let (s, c) = heading.sin_cos();
-        let points: Vec<[f64; 3]> = cloud
-            .points
-            .iter()
-            .map(|q| {
-                [
-                    at.x + c * q[0] - s * q[1],
-                    at.y + s * q[0] + c * q[1],
-                    q[2] + lift,
-                ]
-            })
-            .collect();
+        let points: Vec<[f64; 3]> = register(&cloud.points, at, heading, lift).collect();
         m.scan(ns, &points)?;
         let a = survey.get(&r.name).context("a station of the network")?;
         let n = a.value.len();

@@ -8,7 +8,7 @@ use cpsplan::mission::run_campaign;
 use cpsplan::model::ModelPoint;
 
 use super::next::{NetworkFile, NextPlan};
-use super::store::{field_scans, CampaignFile};
+use super::store::{field_scans, register, CampaignFile};
 use crate::formats::cloud::{encode_las, encode_ply, read_cloud, CloudFormat, CloudReadOptions};
 use crate::formats::rosmap::{load_map_with, read_text, save_map, ReadLimits};
 use crate::html::{episode_page, PageRecorder};
@@ -134,17 +134,12 @@ pub fn export(args: &ExportArgs) -> Result<()> {
                     format!("{} is damaged: no station {}", dir.display(), s.station)
                 })?;
             let cloud = read_cloud(&dir.join(&s.cloud), &options, &mut |_, _| {})?;
-            let (sn, cs) = station.heading_deg.unwrap_or(0.0).to_radians().sin_cos();
-            let p = station.position;
+            let heading = station.heading_deg.unwrap_or(0.0).to_radians();
             let scan = u32::try_from(k).unwrap_or(u32::MAX);
-            points.extend(cloud.points.iter().map(|q| ModelPoint {
-                position: [
-                    p.x + cs * q[0] - sn * q[1],
-                    p.y + sn * q[0] + cs * q[1],
-                    q[2] + lift,
-                ],
-                scan,
-            }));
+            points.extend(
+                register(&cloud.points, station.position, heading, lift)
+                    .map(|position| ModelPoint { position, scan }),
+            );
         }
         let bytes = match format {
             CloudFormat::Ply => encode_ply(&points)?,

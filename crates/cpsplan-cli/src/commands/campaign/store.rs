@@ -142,6 +142,25 @@ pub fn field_scans(
         .collect()
 }
 
+/// `points` of a cloud in the scanner's frame registered at a station `at`
+/// whose instrument's zero points `heading` (radians), `z` lifted by the
+/// scanner's height over the floor.
+pub fn register(
+    points: &[[f64; 3]],
+    at: Point,
+    heading: f64,
+    lift: f64,
+) -> impl Iterator<Item = [f64; 3]> + '_ {
+    let (s, c) = heading.sin_cos();
+    points.iter().map(move |q| {
+        [
+            at.x + c * q[0] - s * q[1],
+            at.y + s * q[0] + c * q[1],
+            q[2] + lift,
+        ]
+    })
+}
+
 /// The points of a cloud in the scanner's frame whose height over the floor
 /// (`z + lift`) lies in `band`, one per centimetre square.
 pub fn wall_points(points: &[[f64; 3]], lift: f64, band: [f64; 2]) -> Vec<[f32; 2]> {
