@@ -49,6 +49,10 @@ pub enum Command {
     /// each scan's cloud and total-station readings to get the next plan,
     /// `status`, `export` the registered model, the map and the page.
     Campaign(commands::campaign::CampaignArgs),
+    /// A campaign as a live ROS 2 node: scans and readings in, the next plan,
+    /// the map and the registered scans out (pure Rust DDS, no ROS needed).
+    #[cfg(feature = "ros")]
+    Ros(commands::campaign::live::RosArgs),
 }
 
 /// Options of `cpsplan report`.
@@ -754,6 +758,8 @@ where
         Command::Experiment(args) => commands::experiment::run(&args),
         Command::Report(args) => commands::report::run(&args),
         Command::Campaign(args) => commands::campaign::run(&args),
+        #[cfg(feature = "ros")]
+        Command::Ros(args) => commands::campaign::live::run(&args),
     }
 }
 

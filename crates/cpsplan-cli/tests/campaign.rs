@@ -11,6 +11,10 @@ use serde_json::Value;
 mod common;
 use common::{cpsplan, refused, run_ok};
 
+#[cfg(feature = "ros")]
+#[path = "campaign/live.rs"]
+mod live;
+
 /// `explore --field-data` on a built-in map: (report, field data).
 fn field_data(tmp: &Path, map: &str, max_scans: Option<usize>) -> (PathBuf, PathBuf) {
     let (out, field) = (

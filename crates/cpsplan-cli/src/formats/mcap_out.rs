@@ -1,51 +1,75 @@
 //! A campaign as ROS 2 messages in an MCAP file (`--mcap-out`,
 //! docs/USER-GUIDE.md "Robot software"): what Foxglove, rerun, `ros2 bag
-//! play` and any ROS 2 node read.
-//!
-//! Topics, every message stamped with the campaign's clock (the time model's
-//! hours since the first scan began), frame `map`:
-//! - `/map` (`nav_msgs/OccupancyGrid`): the knowledge map after every scan;
-//! - `/cpsplan/scans` (`sensor_msgs/PointCloud2`): every scan's registered
-//!   points (`x`, `y`, `z` float32);
-//! - `/cpsplan/stations` (`geometry_msgs/PoseWithCovarianceStamped`): every
-//!   scan station with its covariance;
-//! - `/cpsplan/path/parent`, `/cpsplan/path/child<n>` (`nav_msgs/Path`): each
-//!   robot's driven path so far;
-//! - `/cpsplan/plan` (`visualization_msgs/MarkerArray`): every planning round:
-//!   the candidates, the target, the children's spots;
-//! - `/tf` (`tf2_msgs/TFMessage`): `map` → `parent` and `map` → `child<n>`.
+//! play` and any ROS 2 node read. The topics are [`super::ros_out`]'s, every
+//! message stamped with the campaign's clock (the time model's hours since
+//! the first scan began): the knowledge map after every scan, every planning
+//! round, every scan and station.
 
 use std::collections::BTreeMap;
 use std::io::Cursor;
 use std::path::Path;
 
 use anyhow::{Context, Result};
-use cpsplan::grid::CellState;
-use cpsplan::mission::Step;
-use cpsplan::{OccupancyGrid, Point};
 
-use super::ros2::{marker, schema, Cdr, Marker, LINE_STRIP, SPHERE};
+use super::ros_out::{Outlet, RosOut};
 use crate::report::{write_temp, TempFile};
 
-/// The frame every message is in.
-const FRAME: &str = "map";
+pub use super::ros_out::clock_ns;
 
-/// Nanoseconds of `hours` on the campaign clock.
-pub fn clock_ns(hours: f64) -> u64 {
-    (hours.max(0.0) * 3.6e12) as u64
-}
-
-/// An MCAP file being written in memory (moved into place by
-/// [`McapOut::finish`]).
-pub struct McapOut {
+/// An MCAP file being written in memory: channels and schemas added on first use.
+pub struct McapFile {
     writer: mcap::Writer<Cursor<Vec<u8>>>,
     channels: BTreeMap<String, u16>,
     schemas: BTreeMap<&'static str, u16>,
     sequence: u32,
-    driven: Vec<Vec<Point>>,
 }
 
-impl McapOut {
+/// A campaign's messages into an MCAP file (moved into place by
+/// [`McapOut::finish`]).
+pub type McapOut = RosOut<McapFile>;
+
+impl Outlet for McapFile {
+    fn send(
+        &mut self,
+        topic: &str,
+        kind: &'static str,
+        schema: fn() -> String,
+        ns: u64,
+        cdr: &[u8],
+    ) -> Result<()> {
+        let channel = match self.channels.get(topic) {
+            Some(&id) => id,
+            None => {
+                let schema = match self.schemas.get(kind) {
+                    Some(&id) => id,
+                    None => {
+                        let id = self
+                            .writer
+                            .add_schema(kind, "ros2msg", schema().as_bytes())?;
+                        self.schemas.insert(kind, id);
+                        id
+                    }
+                };
+                let id = self
+                    .writer
+                    .add_channel(schema, topic, "cdr", &BTreeMap::new())?;
+                self.channels.insert(topic.to_string(), id);
+                id
+            }
+        };
+        self.sequence += 1;
+        let header = mcap::records::MessageHeader {
+            channel_id: channel,
+            sequence: self.sequence,
+            log_time: ns,
+            publish_time: ns,
+        };
+        self.writer.write_to_known_channel(&header, cdr)?;
+        Ok(())
+    }
+}
+
+impl RosOut<McapFile> {
     /// A new file for a team of `children` children.
     pub fn new(children: usize) -> Result<Self> {
         let options = mcap::WriteOptions::new()
@@ -55,265 +79,23 @@ impl McapOut {
         let writer = options
             .create(Cursor::new(Vec::new()))
             .context("cannot start the MCAP file")?;
-        Ok(Self {
+        let file = McapFile {
             writer,
             channels: BTreeMap::new(),
             schemas: BTreeMap::new(),
             sequence: 0,
-            driven: vec![Vec::new(); children + 1],
-        })
-    }
-
-    /// The channel of `topic` with messages of type `name` (added on first use).
-    fn channel(&mut self, topic: &str, name: &'static str, text: fn() -> String) -> Result<u16> {
-        if let Some(&id) = self.channels.get(topic) {
-            return Ok(id);
-        }
-        let schema = match self.schemas.get(name) {
-            Some(&id) => id,
-            None => {
-                let id = self.writer.add_schema(name, "ros2msg", text().as_bytes())?;
-                self.schemas.insert(name, id);
-                id
-            }
         };
-        let id = self
-            .writer
-            .add_channel(schema, topic, "cdr", &BTreeMap::new())?;
-        self.channels.insert(topic.to_string(), id);
-        Ok(id)
-    }
-
-    fn write(&mut self, channel: u16, ns: u64, bytes: &[u8]) -> Result<()> {
-        self.sequence += 1;
-        let header = mcap::records::MessageHeader {
-            channel_id: channel,
-            sequence: self.sequence,
-            log_time: ns,
-            publish_time: ns,
-        };
-        self.writer.write_to_known_channel(&header, bytes)?;
-        Ok(())
-    }
-
-    /// The knowledge map at `ns`.
-    pub fn map(&mut self, ns: u64, knowledge: &OccupancyGrid) -> Result<()> {
-        let id = self.channel("/map", "nav_msgs/msg/OccupancyGrid", schema::occupancy_grid)?;
-        let g = knowledge.geometry();
-        let mut c = Cdr::new();
-        c.header(ns, FRAME);
-        c.time(ns);
-        c.f32(g.resolution as f32);
-        c.u32(u32::try_from(g.width)?);
-        c.u32(u32::try_from(g.height)?);
-        c.pose(g.origin.x, g.origin.y, 0.0, g.yaw);
-        let data: Vec<u8> = knowledge
-            .cells()
-            .iter()
-            .map(|&s| match s {
-                CellState::Free => 0u8,
-                CellState::Occupied => 100,
-                CellState::Unknown => 0xff,
-            })
-            .collect();
-        c.bytes(&data);
-        self.write(id, ns, &c.into_bytes())
-    }
-
-    /// A scan's registered points at `ns`.
-    pub fn scan(&mut self, ns: u64, points: &[[f64; 3]]) -> Result<()> {
-        let id = self.channel(
-            "/cpsplan/scans",
-            "sensor_msgs/msg/PointCloud2",
-            schema::point_cloud2,
-        )?;
-        let mut c = Cdr::new();
-        c.header(ns, FRAME);
-        c.u32(1);
-        c.u32(u32::try_from(points.len())?);
-        c.len(3);
-        for (k, name) in ["x", "y", "z"].iter().enumerate() {
-            c.string(name);
-            c.u32(4 * k as u32);
-            c.u8(7); // FLOAT32
-            c.u32(1);
-        }
-        c.u8(0); // little endian
-        c.u32(12);
-        c.u32(u32::try_from(points.len().saturating_mul(12))?);
-        let mut data = Vec::with_capacity(points.len() * 12);
-        for p in points {
-            for v in p {
-                data.extend_from_slice(&(*v as f32).to_le_bytes());
-            }
-        }
-        c.bytes(&data);
-        c.u8(1); // dense
-        self.write(id, ns, &c.into_bytes())
-    }
-
-    /// A scan station at `ns`: position, heading and the position's
-    /// covariance (m²), the heading's variance (rad²).
-    pub fn station(
-        &mut self,
-        ns: u64,
-        at: Point,
-        heading: f64,
-        covariance: [[f64; 2]; 2],
-        heading_variance: f64,
-    ) -> Result<()> {
-        let id = self.channel(
-            "/cpsplan/stations",
-            "geometry_msgs/msg/PoseWithCovarianceStamped",
-            schema::pose_with_covariance_stamped,
-        )?;
-        let mut c = Cdr::new();
-        c.header(ns, FRAME);
-        c.pose(at.x, at.y, 0.0, heading);
-        let mut cov = [0.0; 36];
-        cov[0] = covariance[0][0];
-        cov[1] = covariance[0][1];
-        cov[6] = covariance[1][0];
-        cov[7] = covariance[1][1];
-        cov[35] = heading_variance;
-        for v in cov {
-            c.f64(v);
-        }
-        self.write(id, ns, &c.into_bytes())
-    }
-
-    /// A planning step and the knowledge map it planned on, stamped with the
-    /// step's campaign clock.
-    pub fn record(&mut self, step: &Step, knowledge: &OccupancyGrid) -> Result<()> {
-        let ns = clock_ns(step.clock_h);
-        self.map(ns, knowledge)?;
-        self.step(ns, step)
-    }
-
-    /// A planning step at `ns`: the robots' paths so far, where they stand,
-    /// and the round's plan.
-    pub fn step(&mut self, ns: u64, step: &Step) -> Result<()> {
-        self.tf(ns, step)?;
-        self.plan(ns, step)?;
-        // The paths driven after this step's scan.
-        let parent = step.driven_path();
-        self.driven[0].extend(parent);
-        for cycle in &step.movement.cycles {
-            for (i, child) in cycle.children.iter().enumerate() {
-                if let Some(d) = self.driven.get_mut(i + 1) {
-                    d.extend(child.path.iter().copied());
-                }
-            }
-        }
-        for r in 0..self.driven.len() {
-            let topic = if r == 0 {
-                "/cpsplan/path/parent".to_string()
-            } else {
-                format!("/cpsplan/path/child{r}")
-            };
-            let id = self.channel(&topic, "nav_msgs/msg/Path", schema::path)?;
-            let mut c = Cdr::new();
-            c.header(ns, FRAME);
-            c.len(self.driven[r].len());
-            for p in &self.driven[r] {
-                c.header(ns, FRAME);
-                c.pose(p.x, p.y, 0.0, 0.0);
-            }
-            self.write(id, ns, &c.into_bytes())?;
-        }
-        Ok(())
-    }
-
-    fn tf(&mut self, ns: u64, step: &Step) -> Result<()> {
-        let id = self.channel("/tf", "tf2_msgs/msg/TFMessage", schema::tf_message)?;
-        let mut frames = vec![("parent".to_string(), step.position)];
-        for (i, &p) in step.children.iter().enumerate() {
-            frames.push((format!("child{}", i + 1), p));
-        }
-        let mut c = Cdr::new();
-        c.len(frames.len());
-        for (name, p) in frames {
-            c.header(ns, FRAME);
-            c.string(&name);
-            for v in [p.x, p.y, 0.0] {
-                c.f64(v);
-            }
-            c.quaternion(0.0);
-        }
-        self.write(id, ns, &c.into_bytes())
-    }
-
-    fn plan(&mut self, ns: u64, step: &Step) -> Result<()> {
-        let id = self.channel(
-            "/cpsplan/plan",
-            "visualization_msgs/msg/MarkerArray",
-            schema::marker_array,
-        )?;
-        let mut markers = Vec::new();
-        let target = step.movement.target;
-        for (k, cand) in step.plan.candidates.iter().enumerate() {
-            let chosen = Some(k) == target;
-            markers.push(Marker {
-                ns: "candidates".into(),
-                id: i32::try_from(k).unwrap_or(i32::MAX),
-                kind: SPHERE,
-                at: [cand.position.x, cand.position.y, 0.0],
-                scale: if chosen { [0.6; 3] } else { [0.3; 3] },
-                color: if chosen {
-                    [0.8, 0.1, 0.1, 1.0]
-                } else {
-                    [1.0, 0.7, 0.2, 0.8]
-                },
-                points: Vec::new(),
-                text: String::new(),
-            });
-        }
-        for (n, cycle) in step.movement.cycles.iter().enumerate() {
-            for (i, child) in cycle.children.iter().enumerate() {
-                markers.push(Marker {
-                    ns: format!("child{}", i + 1),
-                    id: i32::try_from(n).unwrap_or(i32::MAX),
-                    kind: SPHERE,
-                    at: [child.to.x, child.to.y, 0.0],
-                    scale: [0.4; 3],
-                    color: if i == 0 {
-                        [0.6, 0.3, 0.9, 1.0]
-                    } else {
-                        [0.1, 0.8, 0.8, 1.0]
-                    },
-                    points: Vec::new(),
-                    text: String::new(),
-                });
-            }
-        }
-        let route = step.driven_path();
-        if route.len() > 1 {
-            markers.push(Marker {
-                ns: "parent_path".into(),
-                id: 0,
-                kind: LINE_STRIP,
-                at: [0.0; 3],
-                scale: [0.1, 0.0, 0.0],
-                color: [0.1, 0.4, 0.9, 1.0],
-                points: route.iter().map(|p| [p.x, p.y, 0.0]).collect(),
-                text: String::new(),
-            });
-        }
-        let mut c = Cdr::new();
-        c.len(markers.len());
-        for m in &markers {
-            marker(&mut c, m, ns, FRAME);
-        }
-        self.write(id, ns, &c.into_bytes())
+        Ok(Self::with_outlet(file, children))
     }
 
     /// Finishes the file and writes it under a temporary name beside `path`,
     /// to be moved into place ([`TempFile::persist`]) once everything else is.
-    pub fn finish(mut self, path: &Path) -> Result<TempFile> {
-        self.writer
+    pub fn finish(self, path: &Path) -> Result<TempFile> {
+        let mut file = self.into_outlet();
+        file.writer
             .finish()
             .context("cannot finish the MCAP file")?;
-        let bytes = self.writer.into_inner().into_inner();
+        let bytes = file.writer.into_inner().into_inner();
         write_temp(path, &bytes)
     }
 }

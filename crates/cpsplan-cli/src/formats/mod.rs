@@ -7,5 +7,7 @@ mod png_chunks;
 mod pnm;
 pub mod readings;
 pub mod ros2;
+pub mod ros2_in;
+pub mod ros_out;
 pub mod rosmap;
 pub mod targets;

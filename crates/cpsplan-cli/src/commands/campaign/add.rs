@@ -15,8 +15,8 @@ use cpsplan::accuracy::{
     Survey,
 };
 use cpsplan::config::TargetKind;
-use cpsplan::mission::run_campaign;
-use cpsplan::{Config, Point};
+use cpsplan::mission::{run_campaign, CampaignRun, Step};
+use cpsplan::{Config, OccupancyGrid, Point};
 
 use super::next::{next_plan, NextPlan};
 use super::store::{
@@ -137,28 +137,93 @@ fn check_points(config: &Config, earlier: &[Reading], new: &[Reading], path: &Pa
     Ok(())
 }
 
-/// `cpsplan campaign add`.
-pub fn run(args: &AddArgs) -> Result<()> {
-    let dir = &args.dir;
+/// A scan and its readings, however they arrived (files or a ROS 2 topic).
+pub struct ScanInput {
+    /// The cloud's points in the scanner's frame.
+    pub cloud: Vec<[f64; 3]>,
+    /// The cloud as it is kept in the directory: its bytes and extension.
+    pub cloud_file: (Vec<u8>, String),
+    /// The readings.
+    pub readings: Vec<Reading>,
+    /// The readings as they are kept in the directory (CSV).
+    pub readings_csv: Vec<u8>,
+    /// Where the readings came from, for messages.
+    pub readings_from: PathBuf,
+}
+
+impl ScanInput {
+    /// A scan and its readings from files.
+    pub fn from_files(scan: &Path, readings: &Path, config: &Config) -> Result<Self> {
+        let max_text = ReadLimits::for_config(config).max_text_bytes;
+        let parsed = read_readings(readings, max_text)?;
+        let format = CloudFormat::from_path(scan).with_context(|| {
+            format!(
+                "{}: not a point cloud (LAS, LAZ, E57, PLY or PCD by its extension)",
+                scan.display()
+            )
+        })?;
+        let options = CloudReadOptions {
+            max_points: config.limits.max_cloud_points as u64,
+            ..CloudReadOptions::default()
+        };
+        let cloud = read_cloud(scan, &options, &mut |_, _| {})?;
+        let ext = scan.extension().map_or_else(
+            || format.name().to_ascii_lowercase(),
+            |e| e.to_string_lossy().to_ascii_lowercase(),
+        );
+        let cloud_bytes =
+            std::fs::read(scan).with_context(|| format!("cannot read {}", scan.display()))?;
+        let readings_csv = std::fs::read(readings)
+            .with_context(|| format!("cannot read {}", readings.display()))?;
+        Ok(Self {
+            cloud: cloud.points,
+            cloud_file: (cloud_bytes, ext),
+            readings: parsed,
+            readings_csv,
+            readings_from: readings.to_path_buf(),
+        })
+    }
+}
+
+/// One scan added, computed and not yet written ([`Prepared::commit`]).
+pub struct Prepared {
+    /// The scan's number, from 1.
+    pub n: usize,
+    /// The station it was taken from.
+    pub station: String,
+    /// Every scan's record, the new one last.
+    pub records: Vec<ScanRecord>,
+    /// The new scan's points in the scanner's frame.
+    pub cloud: Vec<[f64; 3]>,
+    /// The network adjusted with the new readings.
+    pub survey: Survey,
+    /// Every station's and point's adjusted pose.
+    pub poses: Poses,
+    /// The campaign replayed to the next plan.
+    pub run: CampaignRun,
+    /// The next plan, as `next.json` holds it.
+    pub next: NextPlan,
+    /// The readings left out as blunders, named with their standardized residuals.
+    pub left_out: Vec<String>,
+    change: Change,
+    state: CampaignFile,
+}
+
+/// Adds a scan to the campaign in `dir`, in memory: the network adjusted,
+/// the cloud registered, the campaign replayed (`on_step` sees every step
+/// and the knowledge map it planned on) and every file to write prepared.
+pub fn prepare(
+    dir: &Path,
+    input: ScanInput,
+    on_step: impl FnMut(&Step, &OccupancyGrid),
+) -> Result<Prepared> {
     let mut state = CampaignFile::load(dir)?;
     let mut records = state.records(dir)?;
     let config = state.config.clone();
     let n = state.scans.len() + 1;
-    let max_text = ReadLimits::for_config(&config).max_text_bytes;
-    let new = read_readings(&args.readings, max_text)?;
+    let new = input.readings;
     let earlier = earlier_readings(&state, dir)?;
-    check_points(&config, &earlier, &new, &args.readings)?;
-    let format = CloudFormat::from_path(&args.scan).with_context(|| {
-        format!(
-            "{}: not a point cloud (LAS, LAZ, E57, PLY or PCD by its extension)",
-            args.scan.display()
-        )
-    })?;
-    let options = CloudReadOptions {
-        max_points: config.limits.max_cloud_points as u64,
-        ..CloudReadOptions::default()
-    };
-    let cloud = read_cloud(&args.scan, &options, &mut |_, _| {})?;
+    check_points(&config, &earlier, &new, &input.readings_from)?;
 
     // The network: every reading so far, the new ones checked.
     let mut all = earlier.clone();
@@ -194,41 +259,14 @@ pub fn run(args: &AddArgs) -> Result<()> {
         children: children_at(&survey, config.children.count),
         sigma_m: at.sigma_m(),
         left_out: left_out.clone(),
-        walls: wall_points(
-            &cloud.points,
-            config.model.scanner_height,
-            state.wall_band_m,
-        ),
+        walls: wall_points(&input.cloud, config.model.scanner_height, state.wall_band_m),
     });
 
     // The campaign replayed to the next step, every scan at its latest pose.
     let prior = state.prior_grid(dir)?;
     let poses = poses_of(&survey);
     let scans = field_scans(&records, &poses, &state.grid)?;
-    let mut mcap = args
-        .mcap_out
-        .as_ref()
-        .map(|_| McapOut::new(config.children.count))
-        .transpose()?;
-    let mut mcap_error = None;
-    let run = run_campaign(prior, &scans, &config, |step, k| {
-        if let (Some(m), None) = (mcap.as_mut(), mcap_error.as_ref()) {
-            mcap_error = m.record(step, k).err();
-        }
-    })?;
-    if let Some(e) = mcap_error {
-        return Err(e.context("--mcap-out"));
-    }
-    if let Some(m) = mcap.as_mut() {
-        let clouds: Vec<PathBuf> = state
-            .scans
-            .iter()
-            .map(|s| dir.join(&s.cloud))
-            .chain(std::iter::once(args.scan.clone()))
-            .collect();
-        write_mcap_scans(m, &run, &records, &clouds, &poses, &survey, &config)
-            .context("--mcap-out")?;
-    }
+    let run = run_campaign(prior, &scans, &config, on_step)?;
     // The loop ends right after its last step: the map that step planned on.
     let knowledge = run
         .episode
@@ -237,25 +275,14 @@ pub fn run(args: &AddArgs) -> Result<()> {
         .context("the replay keeps its knowledge map")?;
     let next = next_plan(&run, &records, &config, position, heading);
 
-    // Everything computed: write it.
+    // Everything computed: the files to write.
     let mut change = Change::default();
-    let ext = args.scan.extension().map_or_else(
-        || format.name().to_ascii_lowercase(),
-        |e| e.to_string_lossy().to_ascii_lowercase(),
-    );
+    let (cloud_bytes, ext) = input.cloud_file;
     let cloud_name = scan_path("cloud", n, &ext);
     let readings_name = scan_path("readings", n, "csv");
     let record_name = scan_path("scan", n, "json");
-    change.put(
-        &cloud_name,
-        std::fs::read(&args.scan)
-            .with_context(|| format!("cannot read {}", args.scan.display()))?,
-    );
-    change.put(
-        &readings_name,
-        std::fs::read(&args.readings)
-            .with_context(|| format!("cannot read {}", args.readings.display()))?,
-    );
+    change.put(&cloud_name, cloud_bytes);
+    change.put(&readings_name, input.readings_csv);
     let mut record = serde_json::to_vec(records.last().context("the new scan")?)?;
     record.push(b'\n');
     change.put(&record_name, record);
@@ -285,11 +312,77 @@ pub fn run(args: &AddArgs) -> Result<()> {
         record: record_name,
         station: station.clone(),
     });
+    Ok(Prepared {
+        n,
+        station,
+        records,
+        cloud: input.cloud,
+        survey,
+        poses,
+        run,
+        next,
+        left_out,
+        change,
+        state,
+    })
+}
+
+impl Prepared {
+    /// Writes every file of the new scan into `dir`, the state file last.
+    pub fn commit(self, dir: &Path) -> Result<()> {
+        self.change.commit(dir, &self.state)
+    }
+
+    /// The configuration of the campaign.
+    pub fn config(&self) -> &Config {
+        &self.state.config
+    }
+
+    /// The new station's registered points (world frame).
+    pub fn registered(&self) -> Result<Vec<[f64; 3]>> {
+        let &(at, heading) = self
+            .poses
+            .get(&self.station)
+            .with_context(|| format!("station {} is not in the network", self.station))?;
+        let lift = self.state.config.model.scanner_height;
+        Ok(register(&self.cloud, at, heading, lift).collect())
+    }
+
+    /// What the scan gave and what comes next, in two lines.
+    pub fn summary(&self) -> String {
+        summary(self.n, &self.station, &self.records, &self.next)
+    }
+}
+
+/// `cpsplan campaign add`.
+pub fn run(args: &AddArgs) -> Result<()> {
+    let dir = &args.dir;
+    let config = CampaignFile::load(dir)?.config;
+    let input = ScanInput::from_files(&args.scan, &args.readings, &config)?;
+    let mut mcap = args
+        .mcap_out
+        .as_ref()
+        .map(|_| McapOut::new(config.children.count))
+        .transpose()?;
+    let mut mcap_error = None;
+    let prepared = prepare(dir, input, |step, k| {
+        if let (Some(m), None) = (mcap.as_mut(), mcap_error.as_ref()) {
+            mcap_error = m.record(step, k).err();
+        }
+    })?;
+    if let Some(e) = mcap_error {
+        return Err(e.context("--mcap-out"));
+    }
     let mcap = match (&args.mcap_out, mcap) {
-        (Some(path), Some(m)) => Some((path, m.finish(path).context("--mcap-out")?)),
+        (Some(path), Some(mut m)) => {
+            write_mcap_scans(&mut m, &prepared, dir).context("--mcap-out")?;
+            Some((path, m.finish(path).context("--mcap-out")?))
+        }
         _ => None,
     };
-    change.commit(dir, &state)?;
+    let left_out = prepared.left_out.clone();
+    let summary = prepared.summary();
+    prepared.commit(dir)?;
     if let Some((path, tmp)) = mcap {
         tmp.persist(path)?;
     }
@@ -297,7 +390,7 @@ pub fn run(args: &AddArgs) -> Result<()> {
         for l in &left_out {
             eprintln!("warning: left out as a blunder: {l}");
         }
-        print_summary(n, &station, &records, &next);
+        println!("{summary}");
     }
     Ok(())
 }
@@ -361,27 +454,31 @@ pub(super) fn poses_of(survey: &Survey) -> Poses {
 }
 
 /// Every scan's registered cloud and station into `m`, stamped with the
-/// replay's clock.
-fn write_mcap_scans(
-    m: &mut McapOut,
-    run: &cpsplan::mission::CampaignRun,
-    records: &[ScanRecord],
-    clouds: &[PathBuf],
-    poses: &Poses,
-    survey: &Survey,
-    config: &Config,
-) -> Result<()> {
+/// replay's clock: the earlier scans' clouds read from `dir`, the new one's
+/// from memory.
+fn write_mcap_scans(m: &mut McapOut, p: &Prepared, dir: &Path) -> Result<()> {
     let options = CloudReadOptions::default();
-    let lift = config.model.scanner_height;
-    for (k, (r, path)) in records.iter().zip(clouds).enumerate() {
-        let ns = run.episode.steps.get(k).map_or(0, |s| clock_ns(s.clock_h));
-        let &(at, heading) = poses
+    let lift = p.config().model.scanner_height;
+    for (k, r) in p.records.iter().enumerate() {
+        let ns = p
+            .run
+            .episode
+            .steps
+            .get(k)
+            .map_or(0, |s| clock_ns(s.clock_h));
+        let &(at, heading) = p
+            .poses
             .get(&r.name)
             .with_context(|| format!("station {} is not in the network", r.name))?;
-        let cloud = read_cloud(path, &options, &mut |_, _| {})?;
-        let points: Vec<[f64; 3]> = register(&cloud.points, at, heading, lift).collect();
+        let points: Vec<[f64; 3]> = match p.state.scans.get(k) {
+            Some(entry) if k + 1 < p.n => {
+                let cloud = read_cloud(&dir.join(&entry.cloud), &options, &mut |_, _| {})?;
+                register(&cloud.points, at, heading, lift).collect()
+            }
+            _ => p.registered()?,
+        };
         m.scan(ns, &points)?;
-        let a = survey.get(&r.name).context("a station of the network")?;
+        let a = p.survey.get(&r.name).context("a station of the network")?;
         let n = a.value.len();
         m.station(
             ns,
@@ -394,17 +491,17 @@ fn write_mcap_scans(
     Ok(())
 }
 
-/// The lines `add` prints.
-fn print_summary(n: usize, station: &str, records: &[ScanRecord], next: &NextPlan) {
+/// The summary `add` prints.
+fn summary(n: usize, station: &str, records: &[ScanRecord], next: &NextPlan) -> String {
     let sigma = records.last().map_or(0.0, |r| r.sigma_m * 1e3);
     let at = next.station.position;
-    println!(
+    let first = format!(
         "scan {n}: station {station} at ({:.3}, {:.3}) ± {sigma:.1} mm; known area {:.0} m²",
         at.x, at.y, next.known_area_m2
     );
-    match (&next.stop, &next.next) {
-        (Some(stop), _) => println!("the campaign is complete: {stop}"),
-        (None, Some(step)) => println!(
+    let second = match (&next.stop, &next.next) {
+        (Some(stop), _) => format!("the campaign is complete: {stop}"),
+        (None, Some(step)) => format!(
             "next: scan at ({:.2}, {:.2}) after {} CPS cycle{}, expected gain {:.0} m², predicted σ {}",
             step.position.x,
             step.position.y,
@@ -414,6 +511,7 @@ fn print_summary(n: usize, station: &str, records: &[ScanRecord], next: &NextPla
             step.predicted_sigma_m
                 .map_or_else(|| "–".to_string(), |s| format!("{:.1} mm", s * 1e3))
         ),
-        (None, None) => println!("no next step planned"),
-    }
+        (None, None) => "no next step planned".to_string(),
+    };
+    format!("{first}\n{second}")
 }

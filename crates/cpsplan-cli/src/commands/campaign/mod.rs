@@ -5,6 +5,8 @@
 //! registered model, the knowledge map and the episode page.
 
 mod add;
+#[cfg(feature = "ros")]
+pub mod live;
 mod next;
 mod show;
 mod store;
