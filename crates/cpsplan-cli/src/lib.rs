@@ -1,7 +1,9 @@
 //! Command line, file formats, rendering and reports for cpsplan.
 
+pub mod args;
 pub mod cli;
 pub mod commands;
+pub mod errors;
 pub mod experiment;
 pub mod formats;
 pub mod html;

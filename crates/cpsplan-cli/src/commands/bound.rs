@@ -1,16 +1,64 @@
 //! `cpsplan bound`: the known-map yardstick of a map (greedy set cover and LP
 //! lower bound), as JSON and a picture.
 
+use std::path::PathBuf;
 use std::time::Instant;
 
 use anyhow::{anyhow, Result};
+use clap::Args;
 use cpsplan::bound::{known_map_bound, BoundError, BoundParams, KnownMapBound};
+use cpsplan::world::builtin::BuiltinMap;
+use cpsplan::Point;
 use serde::Serialize;
 
 use super::{load_truth, read_config, validate};
-use crate::cli::BoundArgs;
+use crate::args::{defaults, parse_point, parse_real, with_default};
 use crate::render::render_bound;
 use crate::report::{MapSource, ReportDir};
+
+/// Options of `cpsplan bound`.
+#[derive(Debug, Args)]
+pub struct BoundArgs {
+    /// Ground-truth map: a ROS map_server YAML, or a PNG/PGM image (at --resolution).
+    #[arg(long, value_name = "MAP.yaml", conflicts_with = "builtin")]
+    pub map: Option<PathBuf>,
+    /// Built-in map (office, site, tunnel), used when no --map is given.
+    #[arg(long, value_name = "NAME")]
+    pub builtin: Option<BuiltinMap>,
+    /// Where the team starts (only the part of the map reachable from it counts),
+    /// world frame metres: X,Y.
+    #[arg(long, value_name = "X,Y", value_parser = parse_point, allow_hyphen_values = true)]
+    pub start: Option<Point>,
+    /// Scanner range in metres.
+    #[arg(long, value_name = "M", allow_hyphen_values = true, value_parser = parse_real,
+          help = with_default("Scanner range in metres", defaults().scanner.range))]
+    pub range: Option<f64>,
+    /// Planning resolution in metres per cell (maps are resampled to it).
+    #[arg(long, value_name = "M", allow_hyphen_values = true, value_parser = parse_real,
+          help = with_default("Planning resolution in metres per cell (maps are resampled to it)", defaults().resolution))]
+    pub resolution: Option<f64>,
+    /// Robot radius in metres.
+    #[arg(long, value_name = "M", allow_hyphen_values = true, value_parser = parse_real,
+          help = with_default("Robot radius in metres", defaults().robot.radius))]
+    pub radius: Option<f64>,
+    /// Spacing of the candidate stations' lattice, metres (default: 1 m, wider on
+    /// large sites).
+    #[arg(long, value_name = "M", allow_hyphen_values = true, value_parser = parse_real)]
+    pub spacing: Option<f64>,
+    /// Spacing of the cells counted for coverage, metres (default: every cell,
+    /// a sub-lattice on large sites).
+    #[arg(long, value_name = "M", allow_hyphen_values = true, value_parser = parse_real)]
+    pub target_spacing: Option<f64>,
+    /// TOML file with any parameters of the run (see docs/USER-GUIDE.md).
+    #[arg(long, value_name = "FILE")]
+    pub config: Option<PathBuf>,
+    /// Output directory: bound.json and bound.png.
+    #[arg(long, value_name = "DIR", default_value = "bound")]
+    pub out: PathBuf,
+    /// Print nothing but errors and warnings.
+    #[arg(long, short)]
+    pub quiet: bool,
+}
 
 /// `bound.json`: the bound and what it was computed on.
 #[derive(Debug, Serialize)]

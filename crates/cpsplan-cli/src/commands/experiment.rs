@@ -9,13 +9,14 @@ use std::sync::{Arc, Mutex, OnceLock};
 use std::time::Instant;
 
 use anyhow::{anyhow, bail, Context, Result};
+use clap::{Args, Subcommand};
 use cpsplan::bound::{known_map_bound, BoundParams};
 use cpsplan::world::{default_start, resample_for};
 use cpsplan::{run_episode_with, OccupancyGrid, Point};
 use indicatif::{ProgressBar, ProgressStyle};
 
 use super::{check_memory, load_planning_grid};
-use crate::cli::{ExperimentArgs, ExperimentCommand, MergeArgs};
+use crate::args::parse_count;
 use crate::experiment::record::BoundRecord;
 use crate::experiment::store::{
     page_name, record_name, refuse_filled, CSV_FILE, PAGES_DIR, PLAN_FILE, RECORDS_DIR, SPEC_FILE,
@@ -26,6 +27,61 @@ use crate::experiment::{
 use crate::formats::rosmap::{read_text, ReadLimits};
 use crate::html::{episode_page, page_title, PageRecorder};
 use crate::report::{write_atomic, ReportDir};
+
+/// Options of `cpsplan experiment`.
+#[derive(Debug, Args)]
+#[command(args_conflicts_with_subcommands = true, subcommand_negates_reqs = true)]
+pub struct ExperimentArgs {
+    /// `merge`: join the directories of an experiment's shards.
+    #[command(subcommand)]
+    pub command: Option<ExperimentCommand>,
+    /// The experiment file: maps × starts × parameter sets × planners × child
+    /// strategies × instruments × seeds (docs/USER-GUIDE.md "Experiments").
+    #[arg(value_name = "FILE.toml", required = true)]
+    pub file: Option<PathBuf>,
+    /// Directory of the records: experiment.toml, plan.json, records/NNNNNN.json
+    /// (one per episode, written as it finishes), episodes.csv.
+    #[arg(long, value_name = "DIR", required = true)]
+    pub out: Option<PathBuf>,
+    /// Continue the experiment in --out: run only the episodes without a whole
+    /// record (a damaged one is redone).
+    #[arg(long)]
+    pub resume: bool,
+    /// Run only the K-th of N slices of the episodes (1 ≤ K ≤ N: those whose
+    /// number leaves the remainder K − 1 when divided by N).
+    #[arg(long, value_name = "K/N")]
+    pub shard: Option<crate::experiment::Shard>,
+    /// Episodes run at once [default: the number of cores].
+    #[arg(long, value_name = "N", value_parser = parse_count)]
+    pub jobs: Option<usize>,
+    /// Also write each finished episode's page, pages/NNNNNN.html (the page of
+    /// `explore --html`), before its record; `cpsplan report` shows them. With
+    /// --resume, finished episodes without a page are run again.
+    #[arg(long)]
+    pub html: bool,
+    /// Print nothing but errors.
+    #[arg(long, short)]
+    pub quiet: bool,
+}
+
+/// The subcommands of `cpsplan experiment`.
+#[derive(Debug, Subcommand)]
+pub enum ExperimentCommand {
+    /// Join the records of an experiment's shard directories into one directory;
+    /// refuses duplicate or missing episodes.
+    Merge(MergeArgs),
+}
+
+/// Options of `cpsplan experiment merge`.
+#[derive(Debug, Args)]
+pub struct MergeArgs {
+    /// The shards' directories (the --out of each `experiment --shard K/N`).
+    #[arg(value_name = "DIR", required = true)]
+    pub dirs: Vec<PathBuf>,
+    /// The merged directory (new or empty).
+    #[arg(long, value_name = "DIR")]
+    pub out: PathBuf,
+}
 
 /// Runs `cpsplan experiment` or its `merge`.
 pub fn run(args: &ExperimentArgs) -> Result<()> {
@@ -322,7 +378,7 @@ fn run_one(
             page,
         ),
         Err(e) => (
-            EpisodeRecord::failed(experiment, spec, crate::cli::one_line(&e), wall_ms),
+            EpisodeRecord::failed(experiment, spec, crate::errors::one_line(&e), wall_ms),
             None,
         ),
     }

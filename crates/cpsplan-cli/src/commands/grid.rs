@@ -1,9 +1,10 @@
 //! `cpsplan grid`: a 3D point cloud projected to a ROS map_server map.
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use anyhow::{anyhow, bail, Result};
+use clap::{Args, ValueEnum};
 use cpsplan::config::approx;
 use cpsplan::world::projection::{
     project, BeamOrigin, GroundModel, HeightBand, PlanarTransform, Projection, ProjectionParams,
@@ -11,11 +12,91 @@ use cpsplan::world::projection::{
 use indicatif::{ProgressBar, ProgressStyle};
 
 use super::read_config;
-use crate::cli::{GridArgs, GroundArg};
-use crate::formats::cloud::{read_cloud, Cloud, CloudReadOptions};
+use crate::args::{parse_count, parse_pair, parse_real, parse_transform, parse_triple, parse_unit};
+use crate::formats::cloud::{read_cloud, Cloud, CloudReadOptions, LengthUnit};
 use crate::formats::rosmap::save_map_with_notes;
 use crate::render::render_map;
 use crate::report::write_temp;
+
+/// Options of `cpsplan grid`.
+#[derive(Debug, Args)]
+pub struct GridArgs {
+    /// The point cloud: .las, .laz, .e57, .ply or .pcd.
+    #[arg(long, value_name = "FILE")]
+    pub cloud: PathBuf,
+    /// The map to write: MAP.yaml, with its image MAP.pgm beside it.
+    #[arg(long, value_name = "MAP.yaml")]
+    pub out: PathBuf,
+    /// Cell width of the map, metres.
+    #[arg(long, value_name = "M", default_value_t = 0.1, allow_hyphen_values = true, value_parser = parse_real)]
+    pub resolution: f64,
+    /// Obstacle band by absolute height: lowest z, metres (with --z-max).
+    #[arg(long, value_name = "Z", allow_hyphen_values = true, value_parser = parse_real,
+          requires = "z_max", conflicts_with_all = ["height_above_ground", "ground"])]
+    pub z_min: Option<f64>,
+    /// Obstacle band by absolute height: highest z, metres (with --z-min).
+    #[arg(long, value_name = "Z", allow_hyphen_values = true, value_parser = parse_real, requires = "z_min")]
+    pub z_max: Option<f64>,
+    /// Obstacle band by height above the estimated ground, metres: LO,HI.
+    #[arg(long, value_name = "LO,HI", allow_hyphen_values = true, value_parser = parse_pair,
+          help = "Obstacle band by height above the estimated ground, metres: LO,HI [default: 0.2,2.0 \
+                  when no --z-min/--z-max is given]")]
+    pub height_above_ground: Option<(f64, f64)>,
+    /// How the ground is estimated: none (z = 0), plane (a plane under the
+    /// lowest points), lowest (the lowest point within --ground-window).
+    #[arg(long, value_enum, default_value = "plane")]
+    pub ground: GroundArg,
+    /// Half-width of the window of `--ground lowest`, metres.
+    #[arg(long, value_name = "M", default_value_t = 2.0, allow_hyphen_values = true, value_parser = parse_real)]
+    pub ground_window: f64,
+    /// Points in the obstacle band that make a cell occupied.
+    #[arg(long, value_name = "N", default_value_t = 1, allow_hyphen_values = true, value_parser = parse_count)]
+    pub min_points: usize,
+    /// Drop points with fewer than two others within R metres (radius outlier
+    /// removal).
+    #[arg(long, value_name = "R", allow_hyphen_values = true, value_parser = parse_real)]
+    pub outlier_radius: Option<f64>,
+    /// Move the cloud into the map frame first: shift TX,TY metres after
+    /// rotating by YAW about the cloud's origin (radians; `90deg` for degrees).
+    #[arg(long, value_name = "TX,TY,YAW", allow_hyphen_values = true, value_parser = parse_transform)]
+    pub transform: Option<(f64, f64, f64)>,
+    /// Free space along the beams from the scan origins (E57 poses, a PCD's
+    /// VIEWPOINT, or --origin) instead of wherever the ground was seen.
+    #[arg(long)]
+    pub free_from_scans: bool,
+    /// The scanner's centre X,Y,Z in the cloud's frame, for --free-from-scans
+    /// (overrides the file's origins).
+    #[arg(long, value_name = "X,Y,Z", allow_hyphen_values = true, value_parser = parse_triple)]
+    pub origin: Option<[f64; 3]>,
+    /// Length unit of the file's coordinates, overriding what the file says:
+    /// m, ft or us-ft.
+    #[arg(long, value_name = "UNIT", value_parser = parse_unit)]
+    pub units: Option<LengthUnit>,
+    /// Skip points whose coordinates are not finite numbers instead of refusing
+    /// the file.
+    #[arg(long)]
+    pub drop_invalid: bool,
+    /// Also draw the map as a PNG picture into this file.
+    #[arg(long, value_name = "FILE.png")]
+    pub preview: Option<PathBuf>,
+    /// TOML file with the limits (`[limits]`, see docs/USER-GUIDE.md).
+    #[arg(long, value_name = "FILE")]
+    pub config: Option<PathBuf>,
+    /// Print nothing but errors and warnings.
+    #[arg(long, short)]
+    pub quiet: bool,
+}
+
+/// `--ground` as a command-line value.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum GroundArg {
+    /// The ground is z = 0.
+    None,
+    /// A plane fitted under the lowest points.
+    Plane,
+    /// The lowest point within --ground-window of each cell.
+    Lowest,
+}
 
 /// Clouds of at least this many points get a progress bar.
 const PROGRESS_POINTS: u64 = 1_000_000;

@@ -1,15 +1,27 @@
 //! `cpsplan maps`: the built-in maps, listed or exported.
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result};
+use clap::Args;
 use cpsplan::world::builtin::BuiltinMap;
 use cpsplan::OccupancyGrid;
 
-use crate::cli::MapsArgs;
+use crate::args::parse_seed;
 use crate::formats::rosmap::save_map;
 use crate::render::render_map;
 use crate::report::write_atomic;
+
+/// Options of `cpsplan maps`.
+#[derive(Debug, Args)]
+pub struct MapsArgs {
+    /// Write every built-in map as ROS map_server PGM+YAML and a PNG preview here.
+    #[arg(long, value_name = "DIR")]
+    pub export: Option<PathBuf>,
+    /// Seed of the maps' layouts.
+    #[arg(long, value_name = "N", default_value_t = 0, allow_hyphen_values = true, value_parser = parse_seed)]
+    pub seed: u64,
+}
 
 /// Lists the built-in maps, or exports them with `--export`.
 pub fn run(args: &MapsArgs) -> Result<()> {

@@ -1,5 +1,5 @@
-//! The work of each subcommand, one module each; arguments are parsed in
-//! [`crate::cli`].
+//! Each subcommand, one module each: its arguments beside its work
+//! ([`crate::cli`] gathers them into the command line).
 
 pub mod bound;
 pub mod campaign;

@@ -1,13 +1,76 @@
 //! `cpsplan plan`: one step for a real team on a partial map, printed as JSON.
 
 use std::io::Write as _;
+use std::path::PathBuf;
 
 use anyhow::{bail, Context, Result};
+use clap::Args;
+use cpsplan::config::{ChildStrategy, InstrumentModel, Planner, Preset};
+use cpsplan::Point;
 
 use super::{load_planning_grid, read_config, validate};
-use crate::cli::PlanArgs;
+use crate::args::{
+    defaults, parse_instrument, parse_planner, parse_point, parse_preset, parse_real, parse_seed,
+    parse_strategy, with_default,
+};
 use crate::render::{render_step, StepView};
 use crate::report::write_temp;
+
+/// Options of `cpsplan plan`.
+#[derive(Debug, Args)]
+pub struct PlanArgs {
+    /// The partial knowledge map: a ROS map_server YAML (trinary: the unknown grey
+    /// is unknown), or a PNG/PGM image (at --resolution).
+    #[arg(long, value_name = "FILE")]
+    pub known: PathBuf,
+    /// The parent's position, world frame metres: X,Y.
+    #[arg(long, value_name = "X,Y", value_parser = parse_point, allow_hyphen_values = true)]
+    pub parent: Point,
+    /// A child's position, world frame metres: X,Y (once per child).
+    #[arg(long = "child", value_name = "X,Y", value_parser = parse_point, allow_hyphen_values = true, required = true)]
+    pub children: Vec<Point>,
+    /// TOML file with any parameters (see docs/USER-GUIDE.md).
+    #[arg(long, value_name = "FILE")]
+    pub config: Option<PathBuf>,
+    /// Planning resolution in metres per cell.
+    #[arg(long, value_name = "M", allow_hyphen_values = true, value_parser = parse_real,
+          help = with_default("Planning resolution in metres per cell", defaults().resolution))]
+    pub resolution: Option<f64>,
+    /// Seed of the planner's random choices.
+    #[arg(long, value_name = "N", allow_hyphen_values = true, value_parser = parse_seed,
+          help = with_default("Seed of the planner's random choices", defaults().seed))]
+    pub seed: Option<u64>,
+    /// The instrument measuring the CPS links (see `cpsplan instruments`).
+    #[arg(long, value_name = "NAME", value_parser = parse_instrument,
+          help = with_default("The instrument measuring the CPS links (see `cpsplan instruments`)",
+                              defaults().instrument.model.name()))]
+    pub instrument: Option<InstrumentModel>,
+    /// How the children's spots are chosen.
+    #[arg(long, value_name = "STRATEGY", value_parser = parse_strategy,
+          help = with_default("How the children's spots are chosen: random, balanced, angle, distance or min-error",
+                              defaults().children.strategy.name()))]
+    pub child_strategy: Option<ChildStrategy>,
+    /// Start from a preset's choices (paper: the greedy Eq. 1, Eq. 2 with
+    /// alpha_c = beta_c and the paper's stop rule, S >= min_gain_cells alone);
+    /// the config file's keys and the other flags still apply.
+    #[arg(long, value_name = "NAME", value_parser = parse_preset)]
+    pub preset: Option<Preset>,
+    /// Which planner chooses the next scan position: paper (the greedy Eq. 1),
+    /// tour (the shortest route through the scan positions that see the
+    /// frontier), or the baselines frontier (ROS explore_lite's nearest frontier)
+    /// and gain (the most new cells, however far).
+    #[arg(long, value_name = "PLANNER", value_parser = parse_planner,
+          help = with_default("Which planner chooses the next scan position: paper (the greedy Eq. 1), tour \
+                               (the shortest route through the scan positions that see the frontier), or the \
+                               baselines frontier (ROS explore_lite's nearest frontier) and gain (the most new \
+                               cells, however far)",
+                              defaults().parent.planner.name()))]
+    pub planner: Option<Planner>,
+    /// Also draw the planned step as a PNG figure (map, candidates, AND regions,
+    /// subgoals, every robot's path) into this file.
+    #[arg(long, value_name = "FILE.png")]
+    pub figure: Option<PathBuf>,
+}
 
 /// Plans the step and prints it; with `--figure`, draws it too. The figure
 /// is moved into place only once the plan has been printed.

@@ -11,8 +11,8 @@
 use std::path::PathBuf;
 
 use anyhow::{bail, Context, Result};
+use clap::Args;
 
-use crate::cli::ReportArgs;
 use crate::experiment::medians::medians_markdown_table;
 use crate::experiment::oracle::oracle_markdown_table;
 use crate::experiment::summary::{
@@ -24,6 +24,24 @@ use crate::html::episodes::{player_section, ShownEpisode};
 use crate::html::{escape, page_data, page_title};
 use crate::render::{Chart, Series, SERIES_COLOURS};
 use crate::report::{write_atomic, ReportDir};
+
+/// Options of `cpsplan report`.
+#[derive(Debug, Args)]
+pub struct ReportArgs {
+    /// The experiment's directory (the --out of `cpsplan experiment` or `experiment merge`).
+    #[arg(value_name = "DIR")]
+    pub dir: PathBuf,
+    /// Where the report goes [default: DIR/report]; an earlier report there is replaced.
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
+    /// Put every episode page of the experiment (`experiment --html`) into
+    /// report.html, not only each condition's typical episode.
+    #[arg(long)]
+    pub all_episodes: bool,
+    /// Print nothing but errors and warnings.
+    #[arg(long, short)]
+    pub quiet: bool,
+}
 
 /// The page's style sheet.
 const STYLE: &str =

@@ -19,7 +19,7 @@ use cpsplan::grid::{CellState, GridGeometry};
 use cpsplan::{OccupancyGrid, Point};
 
 use super::{load_planning_grid, read_config, validate};
-use crate::cli::{parse_point, parse_wall_band};
+use crate::args::{parse_point, parse_wall_band};
 use crate::formats::rosmap::encode_map;
 use store::{CampaignFile, Change, FORMAT, VERSION};
 

@@ -1,146 +1,198 @@
 //! `cpsplan explore`: one simulated episode on a map, and its report.
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::time::Instant;
 
 use anyhow::{bail, Context, Result};
-use cpsplan::config::{Scoring, TargetPlacement};
-use cpsplan::mission::{field_readings, Summary, TargetOrigin, START_REGION_SHARE};
-use cpsplan::model::{
-    build_model, build_model_in, scanner_frame_scans, ModelPoint, RegisteredModel, Registration,
-};
-use cpsplan::{run_episode_with, Config, StopReason};
+use clap::{Args, ValueEnum};
+use cpsplan::config::{ChildStrategy, InstrumentModel, Planner, Preset, Scoring, TargetPlacement};
+use cpsplan::mission::{Summary, TargetOrigin, START_REGION_SHARE};
+use cpsplan::model::{build_model, build_model_in, Registration};
+use cpsplan::world::builtin::BuiltinMap;
+use cpsplan::{run_episode_with, Config, Point, StopReason};
 use indicatif::{ProgressBar, ProgressStyle};
 
+mod outputs;
+
+use outputs::{is_field_file, write_field_data, write_mcap_stations, write_model_cloud};
+pub use outputs::{
+    readings_file_name, scan_file_name, stations_path, ModelFormat, FIELD_CONFIG, FIELD_JSON,
+};
+
 use super::{check_memory, load_truth, read_config, validate};
-use crate::cli::{ExploreArgs, ScoringArg};
-use crate::formats::cloud::{encode_las, encode_ply, encode_stations_ply};
+use crate::args::{
+    defaults, parse_count, parse_instrument, parse_planner, parse_point, parse_preset, parse_real,
+    parse_scan_number, parse_seed, parse_strategy, scoring_name, with_default,
+};
 use crate::formats::mcap_out::{clock_ns, McapOut};
-use crate::formats::readings::write_readings;
 use crate::formats::rosmap::ReadLimits;
 use crate::formats::targets::read_targets;
 use crate::render::{percent, render_step, StepView};
-use crate::report::{write_atomic, write_episode_outputs, write_temp, ReportDir, TempFile};
+use crate::report::{write_atomic, write_episode_outputs, ReportDir};
+
+/// Options of `cpsplan explore`.
+#[derive(Debug, Args)]
+pub struct ExploreArgs {
+    /// Ground-truth map: a ROS map_server YAML, or a PNG/PGM image (at --resolution).
+    #[arg(long, value_name = "FILE", conflicts_with = "builtin")]
+    pub map: Option<PathBuf>,
+    /// Built-in map (office, site, tunnel); the default when no --map is given.
+    #[arg(long, value_name = "NAME",
+          help = with_default("Built-in map (office, site, tunnel), used when no --map is given",
+                              BuiltinMap::DEFAULT.name()))]
+    pub builtin: Option<BuiltinMap>,
+    /// Start position of the parent, world frame metres: X,Y.
+    #[arg(long, value_name = "X,Y", value_parser = parse_point, allow_hyphen_values = true)]
+    pub start: Option<Point>,
+    /// TOML file with any parameters of the run (see docs/USER-GUIDE.md).
+    #[arg(long, value_name = "FILE")]
+    pub config: Option<PathBuf>,
+    /// Weight α of the travel term of Eq. (1).
+    #[arg(long, value_name = "A", allow_hyphen_values = true, value_parser = parse_real,
+          help = with_default("Weight \u{3b1} of the travel term of Eq. (1)", defaults().parent.alpha))]
+    pub alpha: Option<f64>,
+    /// Weight β of the expected-gain term of Eq. (1).
+    #[arg(long, value_name = "B", allow_hyphen_values = true, value_parser = parse_real,
+          help = with_default("Weight \u{3b2} of the expected-gain term of Eq. (1)", defaults().parent.beta))]
+    pub beta: Option<f64>,
+    /// How Eq. (1) combines its terms.
+    #[arg(long, value_enum,
+          help = with_default("How Eq. (1) combines its terms", scoring_name(defaults().parent.scoring)))]
+    pub scoring: Option<ScoringArg>,
+    /// Scanner range in metres.
+    #[arg(long, value_name = "M", allow_hyphen_values = true, value_parser = parse_real,
+          help = with_default("Scanner range in metres", defaults().scanner.range))]
+    pub range: Option<f64>,
+    /// Planning resolution in metres per cell (maps are resampled to it).
+    #[arg(long, value_name = "M", allow_hyphen_values = true, value_parser = parse_real,
+          help = with_default("Planning resolution in metres per cell (maps are resampled to it)",
+                              defaults().resolution))]
+    pub resolution: Option<f64>,
+    /// Robot radius in metres.
+    #[arg(long, value_name = "M", allow_hyphen_values = true, value_parser = parse_real,
+          help = with_default("Robot radius in metres", defaults().robot.radius))]
+    pub radius: Option<f64>,
+    /// Stop after this many scans.
+    #[arg(long, value_name = "N", allow_hyphen_values = true, value_parser = parse_count,
+          help = with_default("Stop after this many scans", defaults().mission.max_scans))]
+    pub max_scans: Option<usize>,
+    /// Number of child robots; every move runs as CPS cycles with them, 0 lets
+    /// the parent move alone.
+    #[arg(long, value_name = "N", allow_hyphen_values = true, value_parser = parse_count,
+          help = with_default("Number of child robots; every move runs as CPS cycles with them, 0 lets the parent move alone",
+                              defaults().children.count))]
+    pub children: Option<usize>,
+    /// How the children's spots are chosen: random, balanced (Eq. 2, αc = βc, the
+    /// default), angle (αc ≫ βc), distance (αc ≪ βc), or min-error (the spots
+    /// that minimise the predicted error of the parent's next pose).
+    #[arg(long, value_name = "STRATEGY", value_parser = parse_strategy,
+          help = with_default("How the children's spots are chosen: random, balanced (Eq. 2, \u{3b1}c = \u{3b2}c), \
+                               angle (\u{3b1}c \u{226b} \u{3b2}c), distance (\u{3b1}c \u{226a} \u{3b2}c), or min-error \
+                               (the spots that minimise the predicted error of the parent's next pose)",
+                              defaults().children.strategy.name()))]
+    pub child_strategy: Option<ChildStrategy>,
+    /// Start from a preset's choices (paper: the greedy Eq. 1, Eq. 2 with
+    /// alpha_c = beta_c and the paper's stop rule, S >= min_gain_cells alone);
+    /// the config file's keys and the other flags still apply.
+    #[arg(long, value_name = "NAME", value_parser = parse_preset)]
+    pub preset: Option<Preset>,
+    /// Which planner chooses the next scan position: paper (the greedy Eq. 1),
+    /// tour (the shortest route through the scan positions that see the
+    /// frontier), the baselines frontier (ROS explore_lite's nearest frontier)
+    /// and gain (the most new cells, however far), or the yardstick oracle (the
+    /// true gain from the ground truth).
+    #[arg(long, value_name = "PLANNER", value_parser = parse_planner,
+          help = with_default("Which planner chooses the next scan position: paper (the greedy Eq. 1), tour \
+                               (the shortest route through the scan positions that see the frontier), the \
+                               baselines frontier (ROS explore_lite's nearest frontier) and gain (the most new \
+                               cells, however far), or the yardstick oracle (each scan's true gain, read from \
+                               the ground truth)",
+                              defaults().parent.planner.name()))]
+    pub planner: Option<Planner>,
+    /// The instrument measuring the CPS links (see `cpsplan instruments`).
+    #[arg(long, value_name = "NAME", value_parser = parse_instrument,
+          help = with_default("The instrument measuring the CPS links (see `cpsplan instruments`)",
+                              defaults().instrument.model.name()))]
+    pub instrument: Option<InstrumentModel>,
+    /// Monte Carlo runs of the campaign's CPS chain with real measurement noise
+    /// (mean error per scan in the records; 0: none).
+    #[arg(long, value_name = "N", allow_hyphen_values = true, value_parser = parse_count,
+          help = with_default("Monte Carlo runs of the campaign's CPS chain with real measurement noise \
+                               (mean error per scan in the records; 0: none)",
+                              defaults().accuracy.monte_carlo_runs))]
+    pub monte_carlo: Option<usize>,
+    /// Seed of every random choice (and of the built-in map's layout).
+    #[arg(long, value_name = "N", allow_hyphen_values = true, value_parser = parse_seed,
+          help = with_default("Seed of every random choice (and of the built-in map's layout)", defaults().seed))]
+    pub seed: Option<u64>,
+    /// Draw the planning step after scan N as `step-NNN.png` in the output
+    /// directory (repeat the flag or give a comma list: 2,5,9).
+    #[arg(long, value_name = "N", value_delimiter = ',', value_parser = parse_scan_number, allow_hyphen_values = true)]
+    pub step_figure: Vec<usize>,
+    /// Also write `report.html`: one self-contained page that steps through the
+    /// scans (map, robots, paths, AND regions, candidates, error ellipses, plots
+    /// and the summary), viewable offline in any browser.
+    #[arg(long)]
+    pub html: bool,
+    /// Write the registered 3D model: every scan's points in the pose the CPS
+    /// estimated (.las, .laz or .ply), with its stations beside it as
+    /// NAME-stations.ply.
+    #[arg(long, value_name = "FILE")]
+    pub cloud_out: Option<PathBuf>,
+    /// Write what a real team would have recorded: per scan, scan-NNNN.ply
+    /// (the cloud in the scanner's own frame, with range noise) and
+    /// readings-NNNN.csv (every total-station reading since the scan before,
+    /// with the instrument's noise: the values the episode's own estimates come
+    /// from). Needs two children or more.
+    #[arg(long, value_name = "DIR")]
+    pub field_data: Option<PathBuf>,
+    /// Write the campaign as ROS 2 messages in an MCAP file: the knowledge
+    /// map, the registered scans, the stations, every robot's path, the plans
+    /// and tf (docs/USER-GUIDE.md "Robot software").
+    #[arg(long, value_name = "FILE.mcap")]
+    pub mcap_out: Option<PathBuf>,
+    /// Height of the walls of the 3D model, metres.
+    #[arg(long, value_name = "M", allow_hyphen_values = true, value_parser = parse_real,
+          help = with_default("Height of the walls of the 3D model, metres", defaults().model.wall_height))]
+    pub wall_height: Option<f64>,
+    /// Vertical spacing of the 3D model's points on a wall, metres.
+    #[arg(long, value_name = "M", allow_hyphen_values = true, value_parser = parse_real,
+          help = with_default("Vertical spacing of the 3D model's points on a wall, metres",
+                              defaults().model.vertical_step))]
+    pub vertical_step: Option<f64>,
+    /// Targets and control points set up before the campaign, as CSV (columns
+    /// name, x, y, kind = control|free, sigma_mm; replaces the config's
+    /// `[[targets]]`).
+    #[arg(long, value_name = "FILE.csv")]
+    pub targets: Option<PathBuf>,
+    /// The team carries N targets and leaves them where the planner judges
+    /// best (targets.place = "auto", targets.max = N).
+    #[arg(long, value_name = "N", allow_hyphen_values = true, value_parser = parse_count)]
+    pub place_targets: Option<usize>,
+    /// No station scans with a predicted 1σ above M metres: the planner closes
+    /// the network first (mission.max_sigma_m).
+    #[arg(long, value_name = "M", allow_hyphen_values = true, value_parser = parse_real)]
+    pub max_sigma: Option<f64>,
+    /// Output directory.
+    #[arg(long, value_name = "DIR", default_value = "out")]
+    pub out: PathBuf,
+    /// Print nothing but errors and warnings.
+    #[arg(long, short)]
+    pub quiet: bool,
+}
+
+/// Eq. (1) scoring as a command-line value.
+#[derive(Debug, Clone, Copy, ValueEnum)]
+pub enum ScoringArg {
+    /// Terms scaled to [0, 1], weights in units of the paper's defaults.
+    Normalized,
+    /// The printed formula with metres and cells.
+    Literal,
+}
 
 /// The file name of the figure of the step after scan `n`: `step-007.png`.
 pub fn step_figure_name(n: usize) -> String {
     format!("step-{n:03}.png")
-}
-
-/// The file name of scan `n`'s readings in `--field-data`: `readings-0007.csv`.
-pub fn readings_file_name(n: usize) -> String {
-    format!("readings-{n:04}.csv")
-}
-
-/// The file name of scan `n`'s cloud in `--field-data`: `scan-0007.ply`.
-pub fn scan_file_name(n: usize) -> String {
-    format!("scan-{n:04}.ply")
-}
-
-/// Whether `name` is a file `--field-data` writes.
-fn is_field_file(name: &str) -> bool {
-    let numbered = |prefix: &str, suffix: &str| {
-        name.strip_prefix(prefix)
-            .and_then(|r| r.strip_suffix(suffix))
-            .is_some_and(|n| !n.is_empty() && n.bytes().all(|b| b.is_ascii_digit()))
-    };
-    numbered("readings-", ".csv")
-        || numbered("scan-", ".ply")
-        || name == FIELD_JSON
-        || name == FIELD_CONFIG
-}
-
-/// The file of `--field-data` that says how to start a campaign on it.
-pub const FIELD_JSON: &str = "field.json";
-
-/// The run's configuration in `--field-data`, for `campaign init --config`.
-pub const FIELD_CONFIG: &str = "config.toml";
-
-/// `field.json`: what `campaign init` needs to replay the field data.
-#[derive(Debug, serde::Serialize)]
-struct FieldInit {
-    /// The first scan's station, world frame.
-    start: cpsplan::Point,
-    /// Where the simulated instrument's zero points, degrees.
-    heading_deg: f64,
-    /// The map's area `[x0, y0, x1, y1]`, metres (`campaign init --area`).
-    area: [f64; 4],
-    /// Scans, one cloud and one readings file each.
-    scans: usize,
-    /// The command that starts a campaign on these data.
-    init: String,
-}
-
-/// Writes `--field-data`: every scan's cloud in the scanner's frame, and its
-/// readings since the scan before.
-fn write_field_data(
-    dir: &Path,
-    truth: &cpsplan::OccupancyGrid,
-    episode: &cpsplan::Episode,
-    config: &Config,
-) -> Result<()> {
-    let scans = field_readings(episode)
-        .context("--field-data: the episode's network cannot be simulated")?;
-    let g = truth.geometry();
-    let (w, h) = g.extent();
-    let area = [g.origin.x, g.origin.y, g.origin.x + w, g.origin.y + h];
-    let start = episode.start;
-    let init = FieldInit {
-        start,
-        heading_deg: 0.0,
-        area,
-        scans: scans.len(),
-        init: format!(
-            "cpsplan campaign init CAMPAIGN --start {:?},{:?} --area {:?},{:?},{:?},{:?} --config {}",
-            start.x, start.y, area[0], area[1], area[2], area[3], FIELD_CONFIG
-        ),
-    };
-    let mut json = serde_json::to_vec_pretty(&init)?;
-    json.push(b'\n');
-    write_atomic(&dir.join(FIELD_JSON), &json)?;
-    let toml = toml::to_string(config).context("--field-data: the configuration as TOML")?;
-    write_atomic(&dir.join(FIELD_CONFIG), toml.as_bytes())?;
-    for (k, readings) in scans.iter().enumerate() {
-        let text = write_readings(readings);
-        write_atomic(&dir.join(readings_file_name(k + 1)), text.as_bytes())?;
-    }
-    let mut failed = None;
-    scanner_frame_scans(truth, episode, config, |scan, points| {
-        if failed.is_some() {
-            return;
-        }
-        let name = scan_file_name(scan as usize + 1);
-        let written = encode_ply(points)
-            .map_err(anyhow::Error::from)
-            .and_then(|bytes| write_atomic(&dir.join(&name), &bytes));
-        if let Err(e) = written {
-            failed = Some(e.context(format!("--field-data: {name}")));
-        }
-    })
-    .context("--field-data")?;
-    failed.map_or(Ok(()), Err)
-}
-
-/// Every scan station of `episode` (its estimate where it has one) with its
-/// covariance (smoothed where the network was adjusted).
-fn write_mcap_stations(m: &mut McapOut, episode: &cpsplan::Episode) -> Result<()> {
-    for step in &episode.steps {
-        let at = step
-            .smoothed_estimate
-            .or(step.estimate)
-            .map_or(step.position, |e| e.position);
-        let cov = step
-            .smoothed_covariance_m2
-            .or(step.covariance_m2)
-            .unwrap_or([[0.0; 2]; 2]);
-        let heading = step
-            .smoothed_heading_sigma_arcsec
-            .or(step.heading_sigma_arcsec)
-            .unwrap_or(0.0)
-            * cpsplan::accuracy::ARCSEC;
-        m.station(clock_ns(step.clock_h), at, 0.0, cov, heading * heading)?;
-    }
-    Ok(())
 }
 
 /// Builds the run's configuration: defaults, then the TOML file, then flags.
@@ -553,65 +605,6 @@ pub fn tolerance_warning(episode: &cpsplan::Episode) -> Option<String> {
         if v.len() == 1 { "" } else { "s" },
         list.join(", ")
     ))
-}
-
-/// The file formats of `--cloud-out`.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum ModelFormat {
-    /// LAS 1.2.
-    Las,
-    /// LAS compressed (LAZ).
-    Laz,
-    /// Binary PLY.
-    Ply,
-}
-
-impl ModelFormat {
-    /// The format named by `path`'s extension.
-    pub fn of(path: &Path) -> Result<Self> {
-        let ext = path
-            .extension()
-            .map(|e| e.to_string_lossy().to_ascii_lowercase())
-            .unwrap_or_default();
-        Ok(match ext.as_str() {
-            "las" => ModelFormat::Las,
-            "laz" => ModelFormat::Laz,
-            "ply" => ModelFormat::Ply,
-            _ => bail!(
-                "--cloud-out {}: the file name must end in .las, .laz or .ply",
-                path.display()
-            ),
-        })
-    }
-}
-
-/// Where the stations of the cloud at `path` go: `NAME-stations.ply` beside it.
-pub fn stations_path(path: &Path) -> PathBuf {
-    let stem = path
-        .file_stem()
-        .map(|s| s.to_string_lossy().into_owned())
-        .unwrap_or_default();
-    path.with_file_name(format!("{stem}-stations.ply"))
-}
-
-/// Encodes the model's points and stations into temporary files beside `path`.
-fn write_model_cloud(
-    path: &Path,
-    format: ModelFormat,
-    points: &[ModelPoint],
-    model: &RegisteredModel,
-) -> Result<(TempFile, TempFile)> {
-    let bytes = match format {
-        ModelFormat::Las => encode_las(points, false),
-        ModelFormat::Laz => encode_las(points, true),
-        ModelFormat::Ply => encode_ply(points),
-    }
-    .with_context(|| format!("--cloud-out {}", path.display()))?;
-    let cloud = write_temp(path, &bytes)?;
-    let stations = encode_stations_ply(&model.stations)
-        .with_context(|| format!("--cloud-out {}", path.display()))?;
-    let stations = write_temp(&stations_path(path), &stations)?;
-    Ok((cloud, stations))
 }
 
 /// The warning for an episode whose scans cover less than 90 % of the free

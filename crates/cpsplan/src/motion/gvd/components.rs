@@ -1,0 +1,194 @@
+//! Connected parts: of the obstacle cells (step 2) and of the skeleton
+//! ([`super::Gvd::edge_component`]).
+
+use super::NONE;
+use crate::grid::window::{Spans, Window};
+use crate::grid::GridGeometry;
+
+/// Labels of the 8-connected components of the obstacle cells, with the buffers
+/// kept between calls.
+#[derive(Debug, Default)]
+pub(super) struct Components {
+    /// Width of the window labelled last.
+    pw: usize,
+    /// Runs of obstacle cells: (row, first column, last column), row by row.
+    runs: Vec<(usize, usize, usize)>,
+    row_start: Vec<usize>,
+    parent: Vec<u32>,
+    pub(super) label: Vec<u32>,
+}
+
+impl Components {
+    /// Labels of the 8-connected components of the obstacle cells ([`NONE`]
+    /// elsewhere; a component's label is some number shared by its cells and no
+    /// other's).
+    ///
+    /// Union-find over the row runs of obstacle cells: a run joins every run of
+    /// the row below that overlaps it or touches it diagonally. Linear in the
+    /// cells, and fast where obstacles are large solid areas.
+    pub(super) fn label(&mut self, pw: usize, ph: usize, obstacle: &[bool]) -> &[u32] {
+        self.pw = pw;
+        let Self {
+            runs,
+            row_start,
+            parent,
+            label,
+            ..
+        } = self;
+        runs.clear();
+        row_start.clear();
+        for y in 0..ph {
+            row_start.push(runs.len());
+            let row = &obstacle[y * pw..][..pw];
+            let mut x = 0;
+            while x < pw {
+                if row[x] {
+                    let first = x;
+                    while x < pw && row[x] {
+                        x += 1;
+                    }
+                    runs.push((y, first, x - 1));
+                } else {
+                    x += 1;
+                }
+            }
+        }
+        row_start.push(runs.len());
+        parent.clear();
+        parent.extend(0..runs.len() as u32);
+        fn root(parent: &mut [u32], mut i: u32) -> u32 {
+            while parent[i as usize] != i {
+                let up = parent[parent[i as usize] as usize];
+                parent[i as usize] = up;
+                i = up;
+            }
+            i
+        }
+        for y in 1..ph {
+            let below = row_start[y - 1]..row_start[y];
+            let mut j = below.start;
+            for i in row_start[y]..row_start[y + 1] {
+                let (_, a0, a1) = runs[i];
+                // Runs of the row below that end before this run starts (diagonal
+                // contact allowed) cannot touch later runs either.
+                while j < below.end && runs[j].2 + 1 < a0 {
+                    j += 1;
+                }
+                let mut k = j;
+                while k < below.end && runs[k].1 <= a1 + 1 {
+                    let (ra, rb) = (root(parent, i as u32), root(parent, k as u32));
+                    if ra != rb {
+                        parent[ra.max(rb) as usize] = ra.min(rb);
+                    }
+                    k += 1;
+                }
+            }
+        }
+        label.clear();
+        label.resize(pw * ph, NONE);
+        for (i, &(y, a, b)) in runs.iter().enumerate() {
+            let r = root(parent, i as u32);
+            label[y * pw + a..=y * pw + b].fill(r);
+        }
+        label
+    }
+}
+
+impl Components {
+    /// The label of a run.
+    pub(super) fn run_label(&self, (y, a, _): (usize, usize, usize)) -> u32 {
+        self.label[y * self.pw + a]
+    }
+
+    /// The number of cells of each component of `labels` (sorted).
+    pub(super) fn sizes_of(&self, labels: &[u32]) -> Vec<usize> {
+        let mut size = vec![0; labels.len()];
+        for &run in &self.runs {
+            if let Ok(j) = labels.binary_search(&self.run_label(run)) {
+                size[j] += run.2 - run.1 + 1;
+            }
+        }
+        size
+    }
+
+    /// The bounding box of the components `labels` (sorted), padded
+    /// coordinates; `None` if there are none.
+    pub(super) fn bounds_of(&self, labels: &[u32]) -> Option<Window> {
+        let mut b: Option<Window> = None;
+        for &run in &self.runs {
+            if labels.binary_search(&self.run_label(run)).is_err() {
+                continue;
+            }
+            let (y, x0, x1) = run;
+            b = Some(match b {
+                None => Window {
+                    x0,
+                    y0: y,
+                    x1,
+                    y1: y,
+                },
+                Some(w) => Window {
+                    x0: w.x0.min(x0),
+                    y0: w.y0.min(y),
+                    x1: w.x1.max(x1),
+                    y1: w.y1.max(y),
+                },
+            });
+        }
+        b
+    }
+}
+
+/// [`Components::label`] with fresh buffers.
+#[cfg(test)]
+pub(super) fn components(pw: usize, ph: usize, obstacle: &[bool]) -> Vec<u32> {
+    Components::default().label(pw, ph, obstacle).to_vec()
+}
+
+/// Labels of the connected parts of the skeleton: 8-neighbouring skeleton cells
+/// are connected where a diagonal step has both cells beside it passable (the
+/// steps the path search takes), written into `label` ([`NONE`] everywhere
+/// before, and left so off the skeleton) for a skeleton within the cells
+/// `within`.
+pub(super) fn edge_components(
+    g: &GridGeometry,
+    passable: &[bool],
+    skeleton: &[bool],
+    label: &mut [u32],
+    within: &Spans,
+) {
+    let (w, h) = (g.width as i64, g.height as i64);
+    let mut stack = Vec::new();
+    let mut next = 0u32;
+    for start in within.ranges().iter().flat_map(|&(lo, hi)| lo..=hi) {
+        if !skeleton[start] || label[start] != NONE {
+            continue;
+        }
+        label[start] = next;
+        stack.push(start);
+        while let Some(i) = stack.pop() {
+            let (x, y) = ((i as i64) % w, (i as i64) / w);
+            for dy in -1..=1i64 {
+                for dx in -1..=1i64 {
+                    let (nx, ny) = (x + dx, y + dy);
+                    if nx < 0 || ny < 0 || nx >= w || ny >= h {
+                        continue;
+                    }
+                    let j = (ny * w + nx) as usize;
+                    if !skeleton[j] || label[j] != NONE {
+                        continue;
+                    }
+                    if dx != 0
+                        && dy != 0
+                        && (!passable[(y * w + nx) as usize] || !passable[(ny * w + x) as usize])
+                    {
+                        continue;
+                    }
+                    label[j] = next;
+                    stack.push(j);
+                }
+            }
+        }
+        next += 1;
+    }
+}
