@@ -7,5 +7,6 @@ pub mod errors;
 pub mod experiment;
 pub mod formats;
 pub mod html;
+pub mod memory;
 pub mod render;
 pub mod report;

@@ -470,13 +470,6 @@ pub fn peak_memory_mb() -> Option<f64> {
     parse_peak_kb(&status).map(|kb| (kb as f64 / 1024.0 * 10.0).round() / 10.0)
 }
 
-/// The memory the machine has available for a new run, MB (`MemAvailable` of
-/// `/proc/meminfo`; `None` where there is no such file or line).
-pub fn available_memory_mb() -> Option<f64> {
-    let info = std::fs::read_to_string("/proc/meminfo").ok()?;
-    parse_kb(&info, "MemAvailable:").map(|kb| kb as f64 / 1024.0)
-}
-
 /// The estimated peak memory of `episode`'s run on a grid of `geometry`, MB,
 /// as [`MemoryEstimate`] gives it before the run, at the scans it took and with
 /// the pictures it drew (`large`: `map-large.png` too).
@@ -488,15 +481,7 @@ pub fn estimated_memory_mb(geometry: &GridGeometry, episode: &Episode, large: bo
 
 /// The `VmHWM` line of a `/proc/PID/status` text, kB.
 fn parse_peak_kb(status: &str) -> Option<u64> {
-    parse_kb(status, "VmHWM:")
-}
-
-/// The value of the line starting with `key` of a `/proc` text in kB.
-fn parse_kb(text: &str, key: &str) -> Option<u64> {
-    let line = text.lines().find(|l| l.starts_with(key))?;
-    let mut words = line[key.len()..].split_whitespace();
-    let kb = words.next()?.parse().ok()?;
-    (words.next() == Some("kB")).then_some(kb)
+    crate::memory::kb_of(status, "VmHWM:")
 }
 
 /// Writes every output of an episode into `dir` (created if needed).

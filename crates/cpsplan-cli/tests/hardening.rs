@@ -199,6 +199,53 @@ fn runs_beyond_the_memory_limit_are_refused_before_they_start() {
     assert!(out.join("summary.json").is_file());
 }
 
+/// A 1 km × 1 km site at 0.1 m (10⁸ cells, within the grid limit; the run is
+/// estimated at some 6 GB) under a 3 GB address-space limit (`ulimit -v`):
+/// refused at once with the estimate and the limit, nothing written, rather
+/// than an allocation failure minutes in.
+#[test]
+fn an_address_space_limit_refuses_a_run_before_it_allocates() {
+    if !Path::new("/proc/self/limits").is_file() || !Path::new("/bin/sh").is_file() {
+        eprintln!("SKIP: no /proc/self/limits or /bin/sh to set ulimit -v with");
+        return;
+    }
+    let t = tempfile::tempdir().unwrap();
+    let (w, h) = (1000usize, 1000usize);
+    let mut pixels = vec![254u8; w * h];
+    for i in 0..w {
+        pixels[i] = 0;
+        pixels[(h - 1) * w + i] = 0;
+        pixels[i * w] = 0;
+        pixels[i * w + w - 1] = 0;
+    }
+    let mut pgm = format!("P5\n{w} {h}\n255\n").into_bytes();
+    pgm.extend_from_slice(&pixels);
+    write(t.path(), "km.pgm", pgm);
+    let yaml = write(
+        t.path(),
+        "km.yaml",
+        "image: km.pgm\nresolution: 1.0\norigin: [0.0, 0.0, 0.0]\nnegate: 0\n\
+         occupied_thresh: 0.65\nfree_thresh: 0.196\n",
+    );
+    let out = t.path().join("out");
+    let script = format!(
+        "ulimit -v 3000000 && exec \"$0\" explore -q --map {} --start 50,50 --out {}",
+        s(&yaml),
+        s(&out)
+    );
+    let run = std::process::Command::new("/bin/sh")
+        .args(["-c", &script, env!("CARGO_BIN_EXE_cpsplan")])
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&run.stderr);
+    assert_eq!(run.status.code(), Some(2), "{err}");
+    assert_eq!(err.lines().count(), 1, "{err}");
+    for needle in ["estimated to need", "address-space limit (ulimit -v)"] {
+        assert!(err.contains(needle), "{needle}: {err}");
+    }
+    assert!(!out.exists());
+}
+
 #[test]
 fn huge_counts_are_refused() {
     let t = tempfile::tempdir().unwrap();

@@ -21,8 +21,9 @@ use cpsplan::{Config, OccupancyGrid, Point};
 
 use crate::formats::config::{read_config_file, ConfigFile};
 use crate::formats::rosmap::{load_any_with, ReadLimits};
+use crate::memory::memory_budget;
 use crate::render::pictures_peak_bytes;
-use crate::report::{available_memory_mb, MapSource};
+use crate::report::MapSource;
 
 /// Reads a TOML configuration file, or the defaults.
 pub(crate) fn read_config(path: Option<&Path>) -> Result<ConfigFile> {
@@ -68,7 +69,7 @@ pub(crate) fn check_memory(truth: &OccupancyGrid, config: &Config) -> Result<()>
     let estimate = MemoryEstimate::for_grid(g.width, g.height, config)
         .with_pictures(pictures_peak_bytes(g, true));
     config
-        .check_memory(estimate.mb(1), available_memory_mb())
+        .check_memory(estimate.mb(1), memory_budget().map(|b| (b.mb, b.source)))
         .map_err(|e| anyhow!(e))
 }
 

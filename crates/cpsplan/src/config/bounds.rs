@@ -614,18 +614,20 @@ impl Config {
     }
 
     /// Checks a run estimated to need `needed_mb` MB against `limits.max_memory_mb`,
-    /// or, when that is 0, against `available_mb` (what the machine has, where
-    /// known). Call it before the run allocates its planning structures.
+    /// or, when that is 0, against `available`: the megabytes the run may use
+    /// and what sets them (the machine's memory, a cgroup or an address-space
+    /// limit), where known. Call it before the run allocates its planning
+    /// structures.
     pub fn check_memory(
         &self,
         needed_mb: f64,
-        available_mb: Option<f64>,
+        available: Option<(f64, &str)>,
     ) -> Result<(), ConfigError> {
         let (limit, what) = if self.limits.max_memory_mb > 0.0 {
             (self.limits.max_memory_mb, "`limits.max_memory_mb`")
         } else {
-            match available_mb {
-                Some(a) => (a, "the memory this machine has available"),
+            match available {
+                Some(a) => a,
                 None => return Ok(()),
             }
         };
@@ -738,15 +740,22 @@ mod tests {
     #[test]
     fn runs_beyond_the_memory_limit_are_refused() {
         let mut c = Config::default();
-        c.check_memory(5_000.0, Some(8_000.0)).unwrap();
-        let e = c.check_memory(5_000.0, Some(4_000.0)).unwrap_err();
+        let machine = "the memory this machine has available";
+        c.check_memory(5_000.0, Some((8_000.0, machine))).unwrap();
+        let e = c
+            .check_memory(5_000.0, Some((4_000.0, machine)))
+            .unwrap_err();
         assert_eq!(e.key(), "limits.max_memory_mb");
-        assert!(e.to_string().contains("available"), "{e}");
+        assert!(
+            e.to_string()
+                .contains("5000 MB, more than the memory this machine has available (4000 MB)"),
+            "{e}"
+        );
         // Without a limit or a known amount, nothing is refused.
         c.check_memory(1e9, None).unwrap();
         // A set limit takes the place of the machine's memory.
         c.limits.max_memory_mb = 100.0;
-        let e = c.check_memory(150.0, Some(1e6)).unwrap_err();
+        let e = c.check_memory(150.0, Some((1e6, machine))).unwrap_err();
         assert!(
             e.to_string().contains("`limits.max_memory_mb` (100 MB)"),
             "{e}"
