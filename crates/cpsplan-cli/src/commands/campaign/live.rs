@@ -107,6 +107,15 @@ fn type_name(kind: &str) -> MessageTypeName {
     MessageTypeName::new(package, name)
 }
 
+/// A publisher of `kind` messages on `topic` for `node`.
+fn publisher<M: Serialize>(node: &mut Node, topic: &str, kind: &str) -> Result<Publisher<M>> {
+    let t = node
+        .create_topic(&topic_name(topic)?, type_name(kind), &qos())
+        .map_err(|e| anyhow!("topic {topic}: {e}"))?;
+    node.create_publisher(&t, None)
+        .map_err(|e| anyhow!("publisher of {topic}: {e}"))
+}
+
 /// The node's publishers, one a topic, made on first use.
 struct LiveOutlet {
     node: Node,
@@ -118,18 +127,7 @@ impl LiveOutlet {
     /// Publishes `text` as a `std_msgs/String` on `topic`.
     fn say(&mut self, topic: &'static str, text: String) -> Result<()> {
         if !self.text.contains_key(topic) {
-            let t = self
-                .node
-                .create_topic(
-                    &topic_name(topic)?,
-                    MessageTypeName::new("std_msgs", "String"),
-                    &qos(),
-                )
-                .map_err(|e| anyhow!("topic {topic}: {e}"))?;
-            let p = self
-                .node
-                .create_publisher(&t, None)
-                .map_err(|e| anyhow!("publisher of {topic}: {e}"))?;
+            let p = publisher(&mut self.node, topic, "std_msgs/msg/String")?;
             self.text.insert(topic, p);
         }
         let p = self.text.get(topic).context("a text publisher")?;
@@ -158,14 +156,7 @@ impl Outlet for LiveOutlet {
         cdr: &[u8],
     ) -> Result<()> {
         if !self.publishers.contains_key(topic) {
-            let t = self
-                .node
-                .create_topic(&topic_name(topic)?, type_name(kind), &qos())
-                .map_err(|e| anyhow!("topic {topic}: {e}"))?;
-            let p = self
-                .node
-                .create_publisher(&t, None)
-                .map_err(|e| anyhow!("publisher of {topic}: {e}"))?;
+            let p = publisher(&mut self.node, topic, kind)?;
             self.publishers.insert(topic.to_string(), p);
         }
         let p = self.publishers.get(topic).context("a publisher")?;
