@@ -31,6 +31,7 @@ use serde::{Serialize, Serializer};
 
 use super::add::{prepare, ScanInput};
 use super::store::CampaignFile;
+use crate::errors::one_line;
 use crate::formats::cloud::encode_ply;
 use crate::formats::readings::parse_readings;
 use crate::formats::ros2_in::PointCloud2;
@@ -237,14 +238,14 @@ pub fn run(args: &RosArgs) -> Result<()> {
             text = Some(m);
             last_input = Instant::now();
         }
-        if scan.is_some() && text.is_some() {
-            if let (Some(cloud), Some(csv)) = (scan.take(), text.take()) {
+        match (scan.take(), text.take()) {
+            (Some(cloud), Some(csv)) => {
                 let status = match add(dir, &cloud, csv, &mut out) {
                     Ok(summary) => summary,
                     Err(e) => {
-                        let line = format!("refused: {e:#}");
-                        eprintln!("error: {e:#}");
-                        line
+                        let line = one_line(&e);
+                        eprintln!("error: {line}");
+                        format!("refused: {line}")
                     }
                 };
                 if !args.quiet {
@@ -253,6 +254,8 @@ pub fn run(args: &RosArgs) -> Result<()> {
                 out.outlet_mut().say(STATUS_TOPIC, status)?;
                 handled += 1;
             }
+            // Wait for the other half.
+            (s, t) => (scan, text) = (s, t),
         }
         if args.scans.is_some_and(|n| handled >= n) {
             std::thread::sleep(LINGER);
