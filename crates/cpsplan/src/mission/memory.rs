@@ -25,6 +25,7 @@
 //! on how they are drawn.
 
 use crate::config::Config;
+use crate::sensing::{MAX_KEPT_CELLS, MAX_KEPT_VIEWS};
 
 /// Resident memory of the program whatever the map: code, libraries, thread
 /// stacks, the allocator's arenas and the view caches of a step.
@@ -39,6 +40,10 @@ pub const TEAM_BYTES_PER_CELL: u64 = 40;
 /// its squared distance, the column pass's nearest row, the component labels
 /// and the two straddling-pair flags: 1 + 8 + 4 + 4 + 4 + 2 bytes).
 pub const KEPT_TEAM_BYTES_PER_CELL: u64 = 23;
+/// Bytes the gain views kept across scans take at most, whatever the map: 4
+/// a near cell, and about 128 a view for its entry and counts
+/// (`sensing::GainEstimate`'s kept views).
+pub const KEPT_VIEWS_BYTES: u64 = 4 * MAX_KEPT_CELLS as u64 + 128 * MAX_KEPT_VIEWS as u64;
 /// Bytes of records per scan at the paper's 20 m scanner range; they grow with
 /// the range (a scan sees more border and more wall).
 pub const SCAN_BYTES_AT_20_M: u64 = 150_000;
@@ -77,7 +82,9 @@ impl MemoryEstimate {
         let range = (config.scanner.range / 20.0).clamp(0.05, 1e6);
         Self {
             cells,
-            planning_bytes: cells.saturating_mul(per_cell),
+            planning_bytes: cells
+                .saturating_mul(per_cell)
+                .saturating_add(KEPT_VIEWS_BYTES),
             pictures_bytes: 0,
             per_scan_bytes: (SCAN_BYTES_AT_20_M as f64 * range) as u64,
         }
@@ -121,12 +128,12 @@ mod tests {
         assert!(team.bytes(0) > alone.bytes(0));
         assert_eq!(
             alone.bytes(0),
-            FIXED_BYTES + 480_000 * PARENT_BYTES_PER_CELL
+            FIXED_BYTES + 480_000 * PARENT_BYTES_PER_CELL + KEPT_VIEWS_BYTES
         );
         // Pictures count only where they outweigh the planning.
         assert_eq!(alone.with_pictures(1_000).bytes(0), alone.bytes(0));
-        let big = alone.with_pictures(50 << 20);
-        assert_eq!(big.bytes(0), FIXED_BYTES + (50 << 20) + 3 * 480_000);
+        let big = alone.with_pictures(80 << 20);
+        assert_eq!(big.bytes(0), FIXED_BYTES + (80 << 20) + 3 * 480_000);
         assert_eq!(alone.bytes(10) - alone.bytes(0), 10 * alone.per_scan_bytes);
         config.scanner.range = 40.0;
         assert_eq!(

@@ -18,6 +18,7 @@ use std::sync::Arc;
 
 use rayon::prelude::*;
 
+use super::kept_views::{Kept, KeptView, KeptViews};
 use super::visible_cells;
 
 /// The gain estimate of one knowledge map.
@@ -35,6 +36,10 @@ pub struct GainEstimate {
     min_cells: usize,
     min_m2: f64,
     min_share: f64,
+    /// The views kept across scans by the field this estimate came from, and
+    /// the cells of the knowledge map they belong to (they answer for no
+    /// other map).
+    kept: Option<(Arc<KeptViews>, usize)>,
 }
 
 /// What a position is expected to add.
@@ -68,13 +73,25 @@ impl GainEstimate {
             min_cells: config.parent.min_gain_cells,
             min_m2: config.parent.min_gain_m2,
             min_share: config.parent.min_gain_share,
+            kept: Some((
+                Arc::clone(&field.kept.0),
+                knowledge.cells().as_ptr() as usize,
+            )),
         }
+    }
+
+    /// The kept views, when they belong to `knowledge`.
+    fn kept_for(&self, knowledge: &OccupancyGrid) -> Option<&KeptViews> {
+        self.kept
+            .as_ref()
+            .filter(|(_, cells)| *cells == knowledge.cells().as_ptr() as usize)
+            .map(|(k, _)| k.as_ref())
     }
 
     /// The gain of a scan from `at` within `range_cells` (one visibility sweep,
     /// the rule of [`super::expected_gain`]).
     pub fn at(&self, knowledge: &OccupancyGrid, at: Cell, range_cells: f64) -> Gain {
-        self.view(knowledge, at, range_cells, |_| {})
+        self.kept_view(knowledge, at, range_cells, None)
     }
 
     /// [`Self::at`], calling `on_near(index)` for every counted cell near known
@@ -86,12 +103,63 @@ impl GainEstimate {
         range_cells: f64,
         on_near: impl FnMut(usize),
     ) -> Gain {
-        let (s, near) = self.count(knowledge, at, range_cells, on_near, |_, _| false);
-        Gain {
+        self.kept_view(knowledge, at, range_cells, Some(&mut { on_near }))
+    }
+
+    /// A view, from the kept ones where there is one (with its near cells
+    /// when `on_near` wants them), else counted and kept.
+    fn kept_view(
+        &self,
+        knowledge: &OccupancyGrid,
+        at: Cell,
+        range_cells: f64,
+        on_near: Option<&mut dyn FnMut(usize)>,
+    ) -> Gain {
+        let gain = |s: usize, near: usize| Gain {
             s_cells: s,
             near_cells: near,
             m2: self.m2(near),
+        };
+        let index = knowledge.geometry().index(at);
+        let Some(kept) = self.kept_for(knowledge) else {
+            let (s, near) = match on_near {
+                Some(f) => self.count(knowledge, at, range_cells, f, |_, _| false),
+                None => self.count(knowledge, at, range_cells, |_| {}, |_, _| false),
+            };
+            return gain(s, near);
+        };
+        let wants = on_near.is_some();
+        if let Some(v) = kept.get(index, range_cells, wants) {
+            if let (Some(f), Some(cells)) = (on_near, v.cells.as_ref()) {
+                cells.iter().for_each(|&i| f(i as usize));
+            }
+            return gain(v.unknown, v.near);
         }
+        let mut cells = Vec::new();
+        let (s, near) = self.count(
+            knowledge,
+            at,
+            range_cells,
+            |i| {
+                if wants {
+                    cells.push(i as u32);
+                }
+            },
+            |_, _| false,
+        );
+        if let Some(f) = on_near {
+            cells.iter().for_each(|&i| f(i as usize));
+        }
+        kept.put(
+            index,
+            range_cells,
+            KeptView {
+                unknown: s,
+                near,
+                cells: wants.then(|| Arc::from(cells)),
+            },
+        );
+        gain(s, near)
     }
 
     /// Whether a scan from `at` is worth planning ([`Self::worth_a_scan`] of
@@ -191,6 +259,8 @@ pub struct NearField {
     pad: usize,
     /// Known-Free cells.
     free_cells: usize,
+    /// The gain views of this map kept across scans.
+    kept: Kept,
 }
 
 impl NearField {
@@ -210,6 +280,7 @@ impl NearField {
             limit: chamfer_limit(depth_b),
             pad: (depth_b.ceil() as usize).saturating_add(1),
             free_cells: k.iter().filter(|&&c| c == CellState::Free).count(),
+            kept: Kept::default(),
         };
         if let Some(b) = knowledge.bounds_of(|c| c == CellState::Free) {
             field.transform(knowledge, b);
@@ -229,6 +300,21 @@ impl NearField {
         let near = Arc::make_mut(&mut self.near);
         for &i in changed {
             near[i] = k[i] == CellState::Unknown && near[i];
+        }
+        // The near cells change only in the changed cells and the window the
+        // transform redoes (the made-free cells' box widened by `pad` blocks):
+        // the kept views that reach into that box widened once more go.
+        if let Some((x0, y0, x1, y1)) = g.index_bounds(changed.iter().copied()) {
+            let m = (self.pad + 1) * BLOCK;
+            self.kept.0.forget_near(
+                g.width,
+                (
+                    x0.saturating_sub(m),
+                    y0.saturating_sub(m),
+                    x1.saturating_add(m),
+                    y1.saturating_add(m),
+                ),
+            );
         }
         let made_free = || changed.iter().copied().filter(|&i| k[i] == CellState::Free);
         self.free_cells += made_free().count();
@@ -468,6 +554,69 @@ mod tests {
                 proptest::prop_assert_eq!(a.at(&knowledge, at, range), b.at(&knowledge, at, range));
                 proptest::prop_assert_eq!(a.known_free_m2(), b.known_free_m2());
             }
+        }
+    }
+
+    proptest::proptest! {
+        #![proptest_config(proptest::prelude::ProptestConfig::with_cases(64))]
+        /// The views kept across scans answer as fresh ones do after every
+        /// scan: counts, and the near cells in their order.
+        #[test]
+        fn kept_views_equal_fresh_ones_after_every_scan(
+            cells in proptest::collection::vec(0u8..10, 50 * 36),
+            stops in proptest::collection::vec((0usize..50, 0usize..36), 1..6),
+            depth in 0.0f64..1.5,
+            range in 3.0f64..20.0,
+        ) {
+            let g = GridGeometry::new(50, 36, 0.1, Point::default());
+            let states = cells
+                .iter()
+                .map(|&c| match c {
+                    0..=6 => CellState::Free,
+                    7 | 8 => CellState::Occupied,
+                    _ => CellState::Unknown,
+                })
+                .collect();
+            let truth = OccupancyGrid::from_cells(g, states).expect("sizes match");
+            let mut knowledge = OccupancyGrid::filled(g, CellState::Unknown);
+            let mut config = Config::default();
+            config.parent.unknown_depth = depth;
+            let mut field = NearField::new(&knowledge, &config);
+            let probes: Vec<Cell> = (0..36)
+                .step_by(3)
+                .flat_map(|y| (0..50).step_by(4).map(move |x| Cell::new(x, y)))
+                .collect();
+            let ranges = [range, range / 2.0];
+            for (x, y) in stops {
+                // Every probe's views kept before the scan.
+                let kept = GainEstimate::from_field(&field, &knowledge, &config);
+                for &p in &probes {
+                    for r in ranges {
+                        kept.at(&knowledge, p, r);
+                        kept.view(&knowledge, p, r, |_| {});
+                    }
+                }
+                let mut changed = Vec::new();
+                crate::sensing::scan(&truth, &mut knowledge, Cell::new(x, y), range, |i| {
+                    changed.push(i)
+                });
+                field.update(&knowledge, &changed);
+                let (a, b) = (
+                    GainEstimate::from_field(&field, &knowledge, &config),
+                    GainEstimate::new(&knowledge, &config),
+                );
+                for &p in &probes {
+                    for r in ranges {
+                        let (mut ca, mut cb) = (Vec::new(), Vec::new());
+                        let va = a.view(&knowledge, p, r, |i| ca.push(i));
+                        let vb = b.view(&knowledge, p, r, |i| cb.push(i));
+                        proptest::prop_assert_eq!(va, vb, "{:?} at {}", p, r);
+                        proptest::prop_assert_eq!(&ca, &cb);
+                        proptest::prop_assert_eq!(a.at(&knowledge, p, r), vb);
+                    }
+                }
+            }
+            proptest::prop_assert!(field.kept.0.len() > 0, "views were kept");
         }
     }
 

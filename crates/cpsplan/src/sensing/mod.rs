@@ -15,6 +15,7 @@
 //! sight clearance ([`sight_clear`]).
 
 mod gain;
+mod kept_views;
 mod observed;
 mod scanner;
 mod shadowcast;
@@ -23,6 +24,7 @@ mod sight_sweep;
 mod view;
 
 pub use gain::{Gain, GainEstimate, NearField};
+pub use kept_views::{MAX_KEPT_CELLS, MAX_KEPT_VIEWS};
 pub use observed::{observed_walls, Neighbours, RangeImage, GAP_CELLS, NUDGE_CELLS, RANGE_BINS};
 pub use scanner::{expected_gain, scan, scan_by, seen_walls, true_gain, ScanOutcome};
 pub use shadowcast::visible_cells;
