@@ -5,7 +5,7 @@
 /// Of the address space left under `ulimit -v`, the share a run may count on
 /// for its data: the rest goes to what an estimate of resident memory does
 /// not see (thread stacks, the allocator's reserved arenas, the binary).
-const ADDRESS_SPACE_SHARE: f64 = 0.8;
+pub const ADDRESS_SPACE_SHARE: f64 = 0.8;
 
 /// How much memory a run may use, MB, and what sets it.
 #[derive(Debug, Clone, Copy, PartialEq)]

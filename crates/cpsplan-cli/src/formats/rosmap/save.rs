@@ -15,7 +15,7 @@ use super::{
 
 /// Save a grid as a ROS `map_server` map: `<stem>.pgm` (binary P5; free 254,
 /// occupied 0, unknown 205) next to `yaml_path`, and the YAML itself (trinary,
-/// thresholds 0.65 / 0.196, `negate: 0`). Loading the result with [`load_map`]
+/// thresholds 0.65 / 0.196, `negate: 0`). Loading the result with [`load_map`](super::load_map)
 /// gives back an identical grid.
 ///
 /// Both files are written under temporary names in the target directory and then

@@ -11,7 +11,7 @@ use crate::grid::{CellState, GridGeometry, OccupancyGrid, Traversability};
 /// to date where a scan changed the knowledge map, from which the diagram of any
 /// robot's drivable cells follows ([`Self::diagram`]). The frame is the whole
 /// grid, so that it never moves; outside the Free cells' bounding box every cell
-/// is an obstacle, and the result equals [`gvd`]'s.
+/// is an obstacle, and the result equals [`gvd`](super::gvd())'s.
 ///
 /// [`Self::update`] redoes:
 /// - the obstacles in the bounding box `W` of the changed cells;
@@ -151,7 +151,7 @@ impl VoronoiField {
         }
     }
 
-    /// The diagram for the drivable cells of `trav`: what [`gvd`] computes.
+    /// The diagram for the drivable cells of `trav`: what [`gvd`](super::gvd()) computes.
     pub fn diagram(&self, knowledge: &OccupancyGrid, trav: &Traversability) -> Gvd {
         // Rows of obstacle cells only have no skeleton and no clearance; the
         // padded rows with a positive distance are the frame's rows + 1.
