@@ -362,3 +362,35 @@ fn the_live_node_adds_a_scan_as_campaign_add_does() {
         "the refused scan changed the campaign"
     );
 }
+
+/// The node refuses what `campaign add` refuses before it joins the network:
+/// no campaign directory, a directory of another version; and it stops with
+/// one line when nothing arrives within `--idle-timeout`.
+#[test]
+fn the_live_node_refuses_a_bad_directory_and_gives_up_when_idle() {
+    use super::common::refused;
+    let tmp = tempfile::tempdir().unwrap();
+    let none = tmp.path().join("none");
+    refused(&["ros", none.to_str().unwrap()], "campaign.json");
+    let (_, field) = field_data(tmp.path(), "site", Some(1));
+    let camp = tmp.path().join("campaign");
+    init(&field, &camp);
+    let state = camp.join("campaign.json");
+    let text = std::fs::read_to_string(&state).unwrap();
+    std::fs::write(&state, text.replace("\"version\": 1", "\"version\": 2")).unwrap();
+    refused(&["ros", camp.to_str().unwrap()], "version 2");
+    std::fs::write(&state, text).unwrap();
+    refused(
+        &[
+            "ros",
+            "-q",
+            "--domain",
+            &(DOMAIN + 2).to_string(),
+            "--idle-timeout",
+            "0.5",
+            camp.to_str().unwrap(),
+        ],
+        "nothing arrived on /cpsplan/input/scan",
+    );
+    assert!(!camp.join("next.json").exists(), "nothing was added");
+}
