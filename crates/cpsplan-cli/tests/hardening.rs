@@ -210,17 +210,7 @@ fn an_address_space_limit_refuses_a_run_before_it_allocates() {
         return;
     }
     let t = tempfile::tempdir().unwrap();
-    let (w, h) = (1000usize, 1000usize);
-    let mut pixels = vec![254u8; w * h];
-    for i in 0..w {
-        pixels[i] = 0;
-        pixels[(h - 1) * w + i] = 0;
-        pixels[i * w] = 0;
-        pixels[i * w + w - 1] = 0;
-    }
-    let mut pgm = format!("P5\n{w} {h}\n255\n").into_bytes();
-    pgm.extend_from_slice(&pixels);
-    write(t.path(), "km.pgm", pgm);
+    write(t.path(), "km.pgm", room_pgm(1000, 1000, |_, _| false));
     let yaml = write(
         t.path(),
         "km.yaml",

@@ -39,7 +39,7 @@ pub struct GainEstimate {
     /// The views kept across scans by the field this estimate came from, and
     /// the cells of the knowledge map they belong to (they answer for no
     /// other map).
-    kept: Option<(Arc<KeptViews>, usize)>,
+    kept: (Arc<KeptViews>, usize),
 }
 
 /// What a position is expected to add.
@@ -73,19 +73,17 @@ impl GainEstimate {
             min_cells: config.parent.min_gain_cells,
             min_m2: config.parent.min_gain_m2,
             min_share: config.parent.min_gain_share,
-            kept: Some((
+            kept: (
                 Arc::clone(&field.kept.0),
                 knowledge.cells().as_ptr() as usize,
-            )),
+            ),
         }
     }
 
     /// The kept views, when they belong to `knowledge`.
     fn kept_for(&self, knowledge: &OccupancyGrid) -> Option<&KeptViews> {
-        self.kept
-            .as_ref()
-            .filter(|(_, cells)| *cells == knowledge.cells().as_ptr() as usize)
-            .map(|(k, _)| k.as_ref())
+        let (kept, cells) = &self.kept;
+        (*cells == knowledge.cells().as_ptr() as usize).then_some(kept.as_ref())
     }
 
     /// The gain of a scan from `at` within `range_cells` (one visibility sweep,
@@ -121,15 +119,10 @@ impl GainEstimate {
             m2: self.m2(near),
         };
         let index = knowledge.geometry().index(at);
-        let Some(kept) = self.kept_for(knowledge) else {
-            let (s, near) = match on_near {
-                Some(f) => self.count(knowledge, at, range_cells, f, |_, _| false),
-                None => self.count(knowledge, at, range_cells, |_| {}, |_, _| false),
-            };
-            return gain(s, near);
-        };
+        let kept = self.kept_for(knowledge);
+        let mut on_near = on_near;
         let wants = on_near.is_some();
-        if let Some(v) = kept.get(index, range_cells, wants) {
+        if let Some(v) = kept.and_then(|k| k.get(index, range_cells, wants)) {
             if let (Some(f), Some(cells)) = (on_near, v.cells.as_ref()) {
                 cells.iter().for_each(|&i| f(i as usize));
             }
@@ -141,24 +134,26 @@ impl GainEstimate {
             at,
             range_cells,
             |i| {
-                if wants {
-                    cells.push(i as u32);
+                if let Some(f) = on_near.as_deref_mut() {
+                    f(i);
+                    if kept.is_some() {
+                        cells.push(i as u32);
+                    }
                 }
             },
             |_, _| false,
         );
-        if let Some(f) = on_near {
-            cells.iter().for_each(|&i| f(i as usize));
+        if let Some(k) = kept {
+            k.put(
+                index,
+                range_cells,
+                KeptView {
+                    unknown: s,
+                    near,
+                    cells: wants.then(|| Arc::from(cells)),
+                },
+            );
         }
-        kept.put(
-            index,
-            range_cells,
-            KeptView {
-                unknown: s,
-                near,
-                cells: wants.then(|| Arc::from(cells)),
-            },
-        );
         gain(s, near)
     }
 
@@ -473,6 +468,25 @@ mod tests {
     use crate::geom::Point;
     use crate::grid::GridGeometry;
 
+    /// A 50 × 36 ground truth from `cells` (seven in ten Free, two Occupied,
+    /// one Unknown, never seen), nothing known of it yet, and a configuration
+    /// of `unknown_depth` = `depth`.
+    fn random_start(cells: &[u8], depth: f64) -> (OccupancyGrid, OccupancyGrid, Config) {
+        let g = GridGeometry::new(50, 36, 0.1, Point::default());
+        let states = cells
+            .iter()
+            .map(|&c| match c {
+                0..=6 => CellState::Free,
+                7 | 8 => CellState::Occupied,
+                _ => CellState::Unknown,
+            })
+            .collect();
+        let truth = OccupancyGrid::from_cells(g, states).expect("sizes match");
+        let mut config = Config::default();
+        config.parent.unknown_depth = depth;
+        (truth, OccupancyGrid::filled(g, CellState::Unknown), config)
+    }
+
     proptest::proptest! {
         /// The windowed transform marks exactly the Unknown cells within the
         /// depth of a Free cell by the chamfer metric (brute force over every
@@ -521,20 +535,7 @@ mod tests {
             depth in 0.0f64..1.5,
             range in 3.0f64..30.0,
         ) {
-            let g = GridGeometry::new(50, 36, 0.1, Point::default());
-            // Seven in ten Free, two Occupied, one Unknown (never seen).
-            let states = cells
-                .iter()
-                .map(|&c| match c {
-                    0..=6 => CellState::Free,
-                    7 | 8 => CellState::Occupied,
-                    _ => CellState::Unknown,
-                })
-                .collect();
-            let truth = OccupancyGrid::from_cells(g, states).expect("sizes match");
-            let mut knowledge = OccupancyGrid::filled(g, CellState::Unknown);
-            let mut config = Config::default();
-            config.parent.unknown_depth = depth;
+            let (truth, mut knowledge, config) = random_start(&cells, depth);
             let mut field = NearField::new(&knowledge, &config);
             for (x, y) in stops {
                 let mut changed = Vec::new();
@@ -568,19 +569,7 @@ mod tests {
             depth in 0.0f64..1.5,
             range in 3.0f64..20.0,
         ) {
-            let g = GridGeometry::new(50, 36, 0.1, Point::default());
-            let states = cells
-                .iter()
-                .map(|&c| match c {
-                    0..=6 => CellState::Free,
-                    7 | 8 => CellState::Occupied,
-                    _ => CellState::Unknown,
-                })
-                .collect();
-            let truth = OccupancyGrid::from_cells(g, states).expect("sizes match");
-            let mut knowledge = OccupancyGrid::filled(g, CellState::Unknown);
-            let mut config = Config::default();
-            config.parent.unknown_depth = depth;
+            let (truth, mut knowledge, config) = random_start(&cells, depth);
             let mut field = NearField::new(&knowledge, &config);
             let probes: Vec<Cell> = (0..36)
                 .step_by(3)

@@ -26,6 +26,7 @@ use super::store::{
 use crate::formats::cloud::{read_cloud, CloudFormat, CloudReadOptions};
 use crate::formats::mcap_out::{clock_ns, McapOut};
 use crate::formats::readings::read_readings;
+use crate::formats::ros_out::{Outlet, RosOut};
 use crate::formats::rosmap::{encode_map, ReadLimits};
 use crate::render::{render_step, StepView};
 
@@ -328,9 +329,10 @@ pub fn prepare(
 }
 
 impl Prepared {
-    /// Writes every file of the new scan into `dir`, the state file last.
-    pub fn commit(self, dir: &Path) -> Result<()> {
-        self.change.commit(dir, &self.state)
+    /// Writes every file of the new scan into `dir`, the state file last
+    /// (once: the files are given up to the write).
+    pub fn commit(&mut self, dir: &Path) -> Result<()> {
+        std::mem::take(&mut self.change).commit(dir, &self.state)
     }
 
     /// The configuration of the campaign.
@@ -346,6 +348,23 @@ impl Prepared {
             .with_context(|| format!("station {} is not in the network", self.station))?;
         let lift = self.state.config.model.scanner_height;
         Ok(register(&self.cloud, at, heading, lift).collect())
+    }
+
+    /// Station `name`'s adjusted pose and covariance into `m` at `ns`.
+    pub fn send_station<O: Outlet>(&self, m: &mut RosOut<O>, ns: u64, name: &str) -> Result<()> {
+        let &(at, heading) = self
+            .poses
+            .get(name)
+            .with_context(|| format!("station {name} is not in the network"))?;
+        let a = self.survey.get(name).context("a station of the network")?;
+        let n = a.value.len();
+        m.station(
+            ns,
+            at,
+            heading,
+            a.covariance_2d(),
+            a.covariance[(n - 1, n - 1)],
+        )
     }
 
     /// What the scan gave and what comes next, in two lines.
@@ -365,7 +384,7 @@ pub fn run(args: &AddArgs) -> Result<()> {
         .map(|_| McapOut::new(config.children.count))
         .transpose()?;
     let mut mcap_error = None;
-    let prepared = prepare(dir, input, |step, k| {
+    let mut prepared = prepare(dir, input, |step, k| {
         if let (Some(m), None) = (mcap.as_mut(), mcap_error.as_ref()) {
             mcap_error = m.record(step, k).err();
         }
@@ -380,17 +399,15 @@ pub fn run(args: &AddArgs) -> Result<()> {
         }
         _ => None,
     };
-    let left_out = prepared.left_out.clone();
-    let summary = prepared.summary();
     prepared.commit(dir)?;
     if let Some((path, tmp)) = mcap {
         tmp.persist(path)?;
     }
     if !args.quiet {
-        for l in &left_out {
+        for l in &prepared.left_out {
             eprintln!("warning: left out as a blunder: {l}");
         }
-        println!("{summary}");
+        println!("{}", prepared.summary());
     }
     Ok(())
 }
@@ -478,15 +495,7 @@ fn write_mcap_scans(m: &mut McapOut, p: &Prepared, dir: &Path) -> Result<()> {
             _ => p.registered()?,
         };
         m.scan(ns, &points)?;
-        let a = p.survey.get(&r.name).context("a station of the network")?;
-        let n = a.value.len();
-        m.station(
-            ns,
-            at,
-            heading,
-            a.covariance_2d(),
-            a.covariance[(n - 1, n - 1)],
-        )?;
+        p.send_station(m, ns, &r.name)?;
     }
     Ok(())
 }

@@ -298,34 +298,19 @@ fn add(
         readings_from: PathBuf::from(READINGS_TOPIC),
     };
     out.forget_paths();
-    let prepared = prepare(dir, input, |step, _| out.drive(step))?;
-    let registered = prepared.registered()?;
-    let station = prepared.station.clone();
-    let adjusted = prepared
-        .survey
-        .get(&station)
-        .context("the new station is in the network")?;
-    let (at, heading) = (
-        adjusted.position(),
-        adjusted.value[adjusted.value.len() - 1],
-    );
-    let k = adjusted.value.len() - 1;
-    let covariance = (adjusted.covariance_2d(), adjusted.covariance[(k, k)]);
-    let summary = prepared.summary();
-    let next = serde_json::to_string_pretty(&prepared.next)?;
-    let knowledge = prepared.run.episode.knowledge.clone();
-    let last = prepared.run.episode.steps.last().cloned();
+    let mut prepared = prepare(dir, input, |step, _| out.drive(step))?;
     prepared.commit(dir)?;
 
     let ns = now_ns();
-    if let Some(k) = &knowledge {
+    if let Some(k) = &prepared.run.episode.knowledge {
         out.map(ns, k)?;
     }
-    out.scan(ns, &registered)?;
-    out.station(ns, at, heading, covariance.0, covariance.1)?;
-    if let Some(step) = &last {
+    out.scan(ns, &prepared.registered()?)?;
+    prepared.send_station(out, ns, &prepared.station)?;
+    if let Some(step) = prepared.run.episode.steps.last() {
         out.plan_state(ns, step)?;
     }
+    let next = serde_json::to_string_pretty(&prepared.next)?;
     out.outlet_mut().say(NEXT_TOPIC, next + "\n")?;
-    Ok(summary)
+    Ok(prepared.summary())
 }
