@@ -65,7 +65,7 @@ impl ChildReach {
     /// The reach of a child of `radius` metres at `child`, on a terrain of its own.
     pub fn new(knowledge: &OccupancyGrid, child: Cell, radius: f64) -> Self {
         let terrain = Arc::new(Terrain::new(knowledge, radius, child));
-        let region = terrain.region[knowledge.geometry().index(child)];
+        let region = terrain.region(knowledge.geometry().index(child));
         Self { terrain, region }
     }
 
@@ -84,7 +84,7 @@ impl ChildReach {
     pub fn reaches(&self, index: usize) -> bool {
         self.region != NO_REGION
             && self.terrain.trav.traversable[index]
-            && self.terrain.region[index] == self.region
+            && self.terrain.region(index) == self.region
     }
 }
 

@@ -65,7 +65,7 @@ impl<'k> StepMaps<'k> {
             || {
                 let trav = Traversability::new(knowledge, parent_radius, parent);
                 let field = sweep(g, &trav.passable, &[g.index(parent)], UNREACHED);
-                Terrain::from_sweep(trav, &field)
+                Terrain::from_sweep(trav, field)
             },
             || {
                 (parent_radius != params.child_radius)

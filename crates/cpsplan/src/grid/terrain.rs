@@ -10,9 +10,9 @@
 
 use crate::geom::Cell;
 use crate::grid::region::label4;
-use crate::grid::travel::{DistanceField, UNREACHED};
-use crate::grid::OccupancyGrid;
+use crate::grid::travel::DistanceField;
 use crate::grid::Traversability;
+use crate::grid::{GridGeometry, OccupancyGrid};
 
 /// Label of cells that are not passable.
 pub const NO_REGION: u32 = u32::MAX;
@@ -22,10 +22,17 @@ pub const NO_REGION: u32 = u32::MAX;
 pub struct Terrain {
     /// Drivable cells of the robot.
     pub trav: Traversability,
+    regions: Regions,
+}
+
+/// How a [`Terrain`] knows its regions.
+#[derive(Debug, Clone)]
+enum Regions {
     /// Per cell: the connected region of passable cells it belongs to, or
-    /// [`NO_REGION`] (off the passable cells, and, for a terrain made
-    /// [`from_sweep`](Self::from_sweep), in every region the sweep did not reach).
-    pub region: Vec<u32>,
+    /// [`NO_REGION`].
+    Labelled(Vec<u32>),
+    /// One region (0): the passable cells a travel sweep reached.
+    Swept(DistanceField),
 }
 
 impl Terrain {
@@ -33,9 +40,7 @@ impl Terrain {
     /// region counts as passable, see [`Traversability`]).
     pub fn new(knowledge: &OccupancyGrid, radius: f64, robot: Cell) -> Self {
         let trav = Traversability::new(knowledge, radius, robot);
-        let g = knowledge.geometry();
-        let (region, _) = label4(g.width, g.height, |i| trav.passable[i]);
-        Self { trav, region }
+        Self::labelled(trav, knowledge.geometry())
     }
 
     /// The terrain of robots of `radius` metres with no escape region
@@ -43,35 +48,65 @@ impl Terrain {
     /// labelled.
     pub fn without_escape(knowledge: &OccupancyGrid, radius: f64) -> Self {
         let trav = Traversability::without_escape(knowledge, radius);
-        let g = knowledge.geometry();
+        Self::labelled(trav, knowledge.geometry())
+    }
+
+    /// Every region of the passable cells of `trav` labelled.
+    fn labelled(trav: Traversability, g: &GridGeometry) -> Self {
         let (region, _) = label4(g.width, g.height, |i| trav.passable[i]);
-        Self { trav, region }
+        Self {
+            trav,
+            regions: Regions::Labelled(region),
+        }
     }
 
     /// The terrain of `trav` with only the region of a travel sweep over its
-    /// passable cells labelled (region 0): no labelling pass when the sweep has
-    /// already been run (the parent's planning round runs it).
-    pub fn from_sweep(trav: Traversability, field: &DistanceField) -> Self {
-        let region = trav
-            .passable
-            .iter()
-            .zip(&field.cost)
-            .map(|(&p, &c)| if p && c != UNREACHED { 0 } else { NO_REGION })
-            .collect();
-        Self { trav, region }
+    /// passable cells (region 0): no labelling pass when the sweep has already
+    /// been run (the parent's planning round runs it). The terrain keeps the
+    /// sweep ([`Self::field`]).
+    pub fn from_sweep(trav: Traversability, field: DistanceField) -> Self {
+        Self {
+            trav,
+            regions: Regions::Swept(field),
+        }
     }
 
-    /// The region of cell `index`, if it is passable and labelled.
+    /// The travel sweep the terrain was made from, if it was
+    /// ([`Self::from_sweep`]).
+    pub fn field(&self) -> Option<&DistanceField> {
+        match &self.regions {
+            Regions::Swept(field) => Some(field),
+            Regions::Labelled(_) => None,
+        }
+    }
+
+    /// The region of cell `index`, if it is passable and labelled (for a
+    /// terrain made [`from_sweep`](Self::from_sweep): if the sweep reached it).
+    #[inline]
     pub fn region_of(&self, index: usize) -> Option<u32> {
-        let r = *self.region.get(index)?;
-        (r != NO_REGION).then_some(r)
+        match &self.regions {
+            Regions::Labelled(region) => {
+                let r = *region.get(index)?;
+                (r != NO_REGION).then_some(r)
+            }
+            Regions::Swept(field) => {
+                let on = *self.trav.passable.get(index)? && field.reached(index);
+                on.then_some(0)
+            }
+        }
+    }
+
+    /// [`Self::region_of`], with [`NO_REGION`] for none.
+    #[inline]
+    pub fn region(&self, index: usize) -> u32 {
+        self.region_of(index).unwrap_or(NO_REGION)
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::grid::travel::sweep;
+    use crate::grid::travel::{sweep, UNREACHED};
     use crate::grid::{CellState, GridGeometry};
     use crate::Point;
     use proptest::prelude::*;
@@ -95,7 +130,7 @@ mod tests {
             prop_assume!(!passable.is_empty());
             let s = passable[a.index(passable.len())];
             let field = sweep(&g, &t.trav.passable, &[s], UNREACHED);
-            let swept = Terrain::from_sweep(t.trav.clone(), &field);
+            let swept = Terrain::from_sweep(t.trav.clone(), field.clone());
             for i in 0..g.len() {
                 let same = t.region_of(i).is_some() && t.region_of(i) == t.region_of(s);
                 prop_assert_eq!(same, field.reached(i), "cell {}", i);

@@ -37,9 +37,10 @@ pub const TEAM_BYTES_PER_CELL: u64 = 40;
 /// Bytes per planning cell an episode with children keeps across scans besides
 /// a step's structures: the GVD's obstacle side over the whole grid
 /// (`motion::VoronoiField`: the obstacle flags, the nearest obstacle cell and
-/// its squared distance, the column pass's nearest row, the component labels
-/// and the two straddling-pair flags: 1 + 8 + 4 + 4 + 4 + 2 bytes).
-pub const KEPT_TEAM_BYTES_PER_CELL: u64 = 23;
+/// its squared distance, its clearance, the column pass's nearest row, the
+/// component labels and the two straddling-pair flags: 1 + 8 + 4 + 4 + 4 + 4 +
+/// 2 bytes).
+pub const KEPT_TEAM_BYTES_PER_CELL: u64 = 27;
 /// Bytes the gain views kept across scans take at most, whatever the map: 4
 /// a near cell, and about 128 a view for its entry and counts
 /// (`sensing::GainEstimate`'s kept views).

@@ -202,14 +202,18 @@ pub fn execute_move(
         Groundwork::new(knowledge, here, config.robot.radius, &params, None, None)
     });
     let ParentReach { trav, field, gain } = reach;
-    let parent_terrain = Terrain::from_sweep(trav, &field);
+    let parent_terrain = Terrain::from_sweep(trav, field);
     // The random choices of the step's placements follow the seed and the state.
     let seed =
         config.seed ^ ((here.y as u64) << 32 | here.x as u64).wrapping_mul(0x9e37_79b9_7f4a_7c15);
     let maps = StepMaps::assemble(knowledge, parent_terrain, child_terrain, &params).seeded(seed);
-    let retrieval = Retrieval::new(&maps).with_guide(here, &field);
+    let field = maps
+        .parent_terrain()
+        .field()
+        .expect("the parent's terrain keeps its sweep");
+    let retrieval = Retrieval::new(&maps).with_guide(here, field);
     let accurate = Retrieval::new(&maps)
-        .with_guide(here, &field)
+        .with_guide(here, field)
         .with_strategy(ChildStrategy::MinError);
     let tolerance = match (config.mission.max_sigma_m, chain) {
         (Some(max), Some(_)) => Some(Tolerance {
@@ -352,7 +356,7 @@ pub fn execute_move(
                     cell,
                     &plan.candidates[index],
                     &terrain.trav,
-                    &field,
+                    field,
                     config,
                     &gain,
                 );
@@ -367,7 +371,7 @@ pub fn execute_move(
     for cell in reachable_frontier(
         knowledge,
         &terrain.trav,
-        &field,
+        field,
         config,
         &gain,
         CPS_FALLBACK_TRIES,
@@ -376,7 +380,7 @@ pub fn execute_move(
             continue;
         }
         if let Ok(m) = step.plan_move(here, cell, children) {
-            let c = fallback_candidate(knowledge, cell, &terrain.trav, &field, config, &gain);
+            let c = fallback_candidate(knowledge, cell, &terrain.trav, field, config, &gain);
             plan.candidates.push(c);
             let new = plan.candidates.len() - 1;
             return finish(record, new, cell, m);

@@ -185,6 +185,9 @@ struct Field {
     bh: usize,
     obstacle: Vec<bool>,
     features: FeatureBuffers,
+    /// Per padded cell: the square root of its squared distance to its
+    /// feature (what a diagram's clearance copies).
+    clearance: Vec<f32>,
     components: Components,
     /// Per padded cell: whether it straddles an edge with its right neighbour,
     /// and which of the two wins ([`PAIR_NONE`], [`PAIR_FIRST`], [`PAIR_SECOND`]).
@@ -222,6 +225,12 @@ impl Field {
             }
         }
         feature_transform_into(pw, ph, &self.obstacle, &mut self.features);
+        self.clearance.clear();
+        self.clearance.resize(pw * ph, 0.0);
+        self.clearance
+            .par_iter_mut()
+            .zip(self.features.d2.par_iter())
+            .for_each(|(c, &d)| *c = clearance_of(d));
         self.components.label(pw, ph, &self.obstacle);
         for pairs in [&mut self.right, &mut self.up] {
             pairs.clear();
@@ -301,17 +310,18 @@ impl Field {
         let pw = self.pw();
         let (x0, x1) = (self.x0 + cols.start, self.x0 + cols.end);
         let (y0, y1) = (self.y0 + rows.start, self.y0 + rows.end);
-        let (right, up, d2) = (&self.right, &self.up, &self.features.d2);
-        out.skeleton[y0 * w..y1 * w]
+        let (right, up, clearance) = (&self.right, &self.up, &self.clearance);
+        // Each row's skeleton cells, in order: the labelling below visits
+        // them alone rather than every cell of the frame.
+        let skeleton_rows: Vec<Vec<usize>> = out.skeleton[y0 * w..y1 * w]
             .par_chunks_mut(w)
             .zip(out.clearance[y0 * w..y1 * w].par_chunks_mut(w))
             .enumerate()
-            .for_each(|(ry, (row, clear_row))| {
+            .map(|(ry, (row, clear_row))| {
                 let (by, y) = (rows.start + ry, y0 + ry);
-                let src = &d2[(by + 1) * pw + 1 + cols.start..][..cols.len()];
-                for (c, &d) in clear_row[x0..x1].iter_mut().zip(src) {
-                    *c = (d as f64).sqrt() as f32;
-                }
+                let src = &clearance[(by + 1) * pw + 1 + cols.start..][..cols.len()];
+                clear_row[x0..x1].copy_from_slice(src);
+                let mut on = Vec::new();
                 for (bx, s) in cols.clone().zip(&mut row[x0..x1]) {
                     if !passable[y * w + self.x0 + bx] {
                         continue;
@@ -321,12 +331,25 @@ impl Field {
                         || right[i - 1] == PAIR_SECOND
                         || up[i] == PAIR_FIRST
                         || up[i - pw] == PAIR_SECOND;
+                    if *s {
+                        on.push(y * w + self.x0 + bx);
+                    }
                 }
-            });
+                on
+            })
+            .collect();
+        let cells: Vec<usize> = skeleton_rows.concat();
         let label = &mut out.edge_component;
-        edge_components(g, passable, &out.skeleton, label, &out.written);
+        edge_components(g, passable, &out.skeleton, label, &cells);
         out
     }
+}
+
+/// The clearance, in cells, of a cell at the squared distance `d2` from its
+/// feature.
+#[inline]
+fn clearance_of(d2: u32) -> f32 {
+    (d2 as f64).sqrt() as f32
 }
 
 /// The buffers kept for the next diagram: one set for the whole process (a

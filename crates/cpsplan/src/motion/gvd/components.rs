@@ -2,7 +2,7 @@
 //! ([`super::Gvd::edge_component`]).
 
 use super::NONE;
-use crate::grid::window::{Spans, Window};
+use crate::grid::window::Window;
 use crate::grid::GridGeometry;
 
 /// Labels of the 8-connected components of the obstacle cells, with the buffers
@@ -148,20 +148,20 @@ pub(super) fn components(pw: usize, ph: usize, obstacle: &[bool]) -> Vec<u32> {
 /// Labels of the connected parts of the skeleton: 8-neighbouring skeleton cells
 /// are connected where a diagonal step has both cells beside it passable (the
 /// steps the path search takes), written into `label` ([`NONE`] everywhere
-/// before, and left so off the skeleton) for a skeleton within the cells
-/// `within`.
+/// before, and left so off the skeleton); `cells`: the skeleton's cells in
+/// increasing index, which number the parts in the order of their first cell.
 pub(super) fn edge_components(
     g: &GridGeometry,
     passable: &[bool],
     skeleton: &[bool],
     label: &mut [u32],
-    within: &Spans,
+    cells: &[usize],
 ) {
     let (w, h) = (g.width as i64, g.height as i64);
     let mut stack = Vec::new();
     let mut next = 0u32;
-    for start in within.ranges().iter().flat_map(|&(lo, hi)| lo..=hi) {
-        if !skeleton[start] || label[start] != NONE {
+    for &start in cells {
+        if label[start] != NONE {
             continue;
         }
         label[start] = next;

@@ -115,6 +115,7 @@ fn assert_fresh(kept: &VoronoiField, knowledge: &OccupancyGrid, radius: f64, rob
     assert_eq!(a.obstacle, b.obstacle, "obstacles");
     assert_eq!(a.features.feature, b.features.feature, "features");
     assert_eq!(a.features.d2, b.features.d2, "squared distances");
+    assert_eq!(a.clearance, b.clearance, "clearances");
     assert!(a.right == b.right && a.up == b.up, "straddling pairs");
     let labels: Vec<(u32, u32)> = (0..a.obstacle.len())
         .filter(|&p| a.obstacle[p])

@@ -2,7 +2,7 @@
 //! changed the knowledge map ([`VoronoiField`]).
 
 use super::components::Components;
-use super::{Field, Gvd, PairTest};
+use super::{clearance_of, Field, Gvd, PairTest};
 use crate::grid::window::Window;
 use crate::grid::{CellState, GridGeometry, OccupancyGrid, Traversability};
 
@@ -72,6 +72,15 @@ impl VoronoiField {
             (flips.x0..=flips.x1, flips.y0..=flips.y1),
             &mut changes,
         );
+        for &(py, a, b) in &changes {
+            let row = py * pw;
+            for (c, &d) in f.clearance[row + a..=row + b]
+                .iter_mut()
+                .zip(&f.features.d2[row + a..=row + b])
+            {
+                *c = clearance_of(d);
+            }
+        }
         f.components.label(pw, ph, &f.obstacle);
         let new_label = window_of(&f.components.label, around, pw);
         let kept: Vec<(u32, u32)> = old
