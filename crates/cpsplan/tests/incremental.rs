@@ -129,7 +129,7 @@ fn kept_voronoi_field_gives_the_fresh_diagram_on_the_builtin_maps() {
             let at = format!("{map:?} scan {}", step.scan);
             assert!(a.count() > 0, "{at}: an empty diagram");
             assert_eq!(a.skeleton, b.skeleton, "{at}: skeleton");
-            assert_eq!(a.clearance, b.clearance, "{at}: clearance");
+            assert_eq!(a.clearances(), b.clearances(), "{at}: clearance");
             assert_eq!(a.edge_component, b.edge_component, "{at}: edge components");
             checked += 1;
         })

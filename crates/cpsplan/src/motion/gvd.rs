@@ -42,10 +42,9 @@
 use rayon::prelude::*;
 
 use std::ops::Range;
-use std::sync::Mutex;
+use std::sync::{Arc, Mutex};
 
 use crate::grid::distance::{feature_transform_into, FeatureBuffers};
-use crate::grid::window::{Spans, Window};
 use crate::grid::{CellState, GridGeometry, OccupancyGrid, Traversability};
 
 mod components;
@@ -71,61 +70,76 @@ pub struct Gvd {
     /// Per cell (row-major, row 0 at the bottom): the cell lies on a Voronoi edge
     /// and is drivable. One cell wide, 8-connected along an edge.
     pub skeleton: Vec<bool>,
-    /// Per cell: distance in cells from the cell's centre to the centre of the
-    /// nearest non-Free cell or of the ring of cells just outside the grid (0 on
-    /// non-Free cells).
-    pub clearance: Vec<f32>,
     /// Per cell: the connected part of the skeleton it belongs to (`u32::MAX` off
     /// the skeleton).
     pub edge_component: Vec<u32>,
-    /// The cells outside which every cell is off the skeleton with no
-    /// clearance: what a recycled diagram has to reset.
-    written: Spans,
+    /// The skeleton's cells, ascending: what a recycled diagram has to reset.
+    cells: Vec<usize>,
+    clearance: Clearances,
 }
 
 impl Gvd {
     /// Number of skeleton cells.
     pub fn count(&self) -> usize {
-        self.skeleton.iter().filter(|&&s| s).count()
+        self.cells.len()
     }
 
-    /// A diagram of `n` cells with no skeleton and no clearance, whose cells
-    /// are to be written in `written`: the buffers of a dropped diagram of the
-    /// same size when one is kept, else fresh ones.
-    fn blank(n: usize, written: Spans) -> Self {
+    /// The skeleton's cells, ascending.
+    pub fn cells(&self) -> &[usize] {
+        &self.cells
+    }
+
+    /// Distance in cells from the centre of cell `index` to the centre of the
+    /// nearest non-Free cell or of the ring of cells just outside the grid (0
+    /// on non-Free cells).
+    #[inline]
+    pub fn clearance(&self, index: usize) -> f32 {
+        self.clearance.at(index)
+    }
+
+    /// [`Self::clearance`] of every cell.
+    pub fn clearances(&self) -> Vec<f32> {
+        (0..self.skeleton.len())
+            .map(|i| self.clearance(i))
+            .collect()
+    }
+
+    /// A diagram of `n` cells with no skeleton: the buffers of a dropped
+    /// diagram of the same size when one is kept, else fresh ones.
+    fn blank(n: usize) -> Self {
         let kept = RECYCLED.lock().ok().and_then(|mut kept| {
             let at = kept.iter().position(|d| d.skeleton.len() == n)?;
             Some(kept.swap_remove(at))
         });
         match kept {
-            Some(d) => Self::reuse(d, written),
-            None => Self::fresh(n, written),
+            Some(d) => Self::reuse(d),
+            None => Self::fresh(n),
         }
     }
 
     /// [`Self::blank`] in fresh buffers.
-    fn fresh(n: usize, written: Spans) -> Self {
+    fn fresh(n: usize) -> Self {
         Self {
             skeleton: vec![false; n],
-            clearance: vec![0.0; n],
             edge_component: vec![NONE; n],
-            written,
+            cells: Vec::new(),
+            clearance: Clearances::default(),
         }
     }
 
-    /// [`Self::blank`] in the buffers of a dropped diagram, reset where it
-    /// wrote.
-    fn reuse(mut d: Recycled, written: Spans) -> Self {
-        for &(lo, hi) in d.written.ranges() {
-            d.skeleton[lo..=hi].fill(false);
-            d.edge_component[lo..=hi].fill(NONE);
-            d.clearance[lo..=hi].fill(0.0);
+    /// [`Self::blank`] in the buffers of a dropped diagram, reset on its
+    /// skeleton.
+    fn reuse(mut d: Recycled) -> Self {
+        for &i in &d.cells {
+            d.skeleton[i] = false;
+            d.edge_component[i] = NONE;
         }
+        d.cells.clear();
         Self {
             skeleton: d.skeleton,
-            clearance: d.clearance,
             edge_component: d.edge_component,
-            written,
+            cells: d.cells,
+            clearance: Clearances::default(),
         }
     }
 
@@ -133,19 +147,47 @@ impl Gvd {
     fn recycle(&mut self) -> Recycled {
         Recycled {
             skeleton: std::mem::take(&mut self.skeleton),
-            clearance: std::mem::take(&mut self.clearance),
             edge_component: std::mem::take(&mut self.edge_component),
-            written: std::mem::take(&mut self.written),
+            cells: std::mem::take(&mut self.cells),
         }
     }
 }
 
-/// The buffers of a dropped [`Gvd`], and the cells it wrote.
+/// The clearances of a diagram: those of the field it was drawn from, over the
+/// field's padded frame (0 outside it).
+#[derive(Debug, Clone, Default)]
+struct Clearances {
+    values: Arc<Vec<f32>>,
+    /// The grid's width.
+    width: usize,
+    /// First column and row of the frame on the grid, and its size.
+    x0: usize,
+    y0: usize,
+    bw: usize,
+    bh: usize,
+}
+
+impl Clearances {
+    /// The clearance of grid cell `index`.
+    #[inline]
+    fn at(&self, index: usize) -> f32 {
+        if self.width == 0 {
+            return 0.0;
+        }
+        let (x, y) = (index % self.width, index / self.width);
+        let (bx, by) = (x.wrapping_sub(self.x0), y.wrapping_sub(self.y0));
+        if bx >= self.bw || by >= self.bh {
+            return 0.0;
+        }
+        self.values[(by + 1) * (self.bw + 2) + bx + 1]
+    }
+}
+
+/// The buffers of a dropped [`Gvd`].
 struct Recycled {
     skeleton: Vec<bool>,
-    clearance: Vec<f32>,
     edge_component: Vec<u32>,
-    written: Spans,
+    cells: Vec<usize>,
 }
 
 /// Dropped diagrams' buffers kept for the next diagrams of their size (at most
@@ -186,8 +228,8 @@ struct Field {
     obstacle: Vec<bool>,
     features: FeatureBuffers,
     /// Per padded cell: the square root of its squared distance to its
-    /// feature (what a diagram's clearance copies).
-    clearance: Vec<f32>,
+    /// feature (shared with the diagrams drawn from the field).
+    clearance: Arc<Vec<f32>>,
     components: Components,
     /// Per padded cell: whether it straddles an edge with its right neighbour,
     /// and which of the two wins ([`PAIR_NONE`], [`PAIR_FIRST`], [`PAIR_SECOND`]).
@@ -225,9 +267,14 @@ impl Field {
             }
         }
         feature_transform_into(pw, ph, &self.obstacle, &mut self.features);
-        self.clearance.clear();
-        self.clearance.resize(pw * ph, 0.0);
-        self.clearance
+        if Arc::get_mut(&mut self.clearance).is_none() {
+            // A diagram still holds the old clearances.
+            self.clearance = Arc::default();
+        }
+        let clearance = Arc::make_mut(&mut self.clearance);
+        clearance.clear();
+        clearance.resize(pw * ph, 0.0);
+        clearance
             .par_iter_mut()
             .zip(self.features.d2.par_iter())
             .for_each(|(c, &d)| *c = clearance_of(d));
@@ -274,27 +321,10 @@ impl Field {
         rows: Range<usize>,
         cols: Range<usize>,
     ) -> Gvd {
-        let out = Gvd::blank(g.len(), self.written(g, &rows, &cols));
-        self.draw(g, passable, rows, cols, out)
+        self.draw(g, passable, rows, cols, Gvd::blank(g.len()))
     }
 
-    /// The grid cells that [`Self::diagram`] of the frame's `rows` and `cols`
-    /// writes.
-    fn written(&self, g: &GridGeometry, rows: &Range<usize>, cols: &Range<usize>) -> Spans {
-        if rows.is_empty() || cols.is_empty() {
-            return Spans::default();
-        }
-        let window = Window {
-            x0: self.x0 + cols.start,
-            y0: self.y0 + rows.start,
-            x1: self.x0 + cols.end - 1,
-            y1: self.y0 + rows.end - 1,
-        };
-        Spans::of(&[window], g.width)
-    }
-
-    /// [`Self::diagram`] drawn into `out`, a [`Gvd::blank`] for the cells
-    /// [`Self::written`].
+    /// [`Self::diagram`] drawn into `out`, a [`Gvd::blank`].
     fn draw(
         &self,
         g: &GridGeometry,
@@ -303,44 +333,61 @@ impl Field {
         cols: Range<usize>,
         mut out: Gvd,
     ) -> Gvd {
-        if out.written.ranges().is_empty() {
+        out.clearance = Clearances {
+            values: Arc::clone(&self.clearance),
+            width: g.width,
+            x0: self.x0,
+            y0: self.y0,
+            bw: self.bw,
+            bh: self.bh,
+        };
+        if rows.is_empty() || cols.is_empty() {
             return out;
         }
         let w = g.width;
         let pw = self.pw();
         let (x0, x1) = (self.x0 + cols.start, self.x0 + cols.end);
-        let (y0, y1) = (self.y0 + rows.start, self.y0 + rows.end);
-        let (right, up, clearance) = (&self.right, &self.up, &self.clearance);
+        let y0 = self.y0 + rows.start;
+        let y1 = self.y0 + rows.end;
+        let (right, up) = (&self.right, &self.up);
+        let n = cols.len();
         // Each row's skeleton cells, in order: the labelling below visits
         // them alone rather than every cell of the frame.
         let skeleton_rows: Vec<Vec<usize>> = out.skeleton[y0 * w..y1 * w]
             .par_chunks_mut(w)
-            .zip(out.clearance[y0 * w..y1 * w].par_chunks_mut(w))
             .enumerate()
-            .map(|(ry, (row, clear_row))| {
+            .map(|(ry, row)| {
                 let (by, y) = (rows.start + ry, y0 + ry);
-                let src = &clearance[(by + 1) * pw + 1 + cols.start..][..cols.len()];
-                clear_row[x0..x1].copy_from_slice(src);
+                let i0 = (by + 1) * pw + cols.start + 1;
+                let (r, r_left) = (&right[i0..i0 + n], &right[i0 - 1..i0 - 1 + n]);
+                let (u, u_below) = (&up[i0..i0 + n], &up[i0 - pw..i0 - pw + n]);
+                let open = &passable[y * w + x0..y * w + x1];
+                let row = &mut row[x0..x1];
+                for k in 0..n {
+                    row[k] = open[k]
+                        & ((r[k] == PAIR_FIRST)
+                            | (r_left[k] == PAIR_SECOND)
+                            | (u[k] == PAIR_FIRST)
+                            | (u_below[k] == PAIR_SECOND));
+                }
                 let mut on = Vec::new();
-                for (bx, s) in cols.clone().zip(&mut row[x0..x1]) {
-                    if !passable[y * w + self.x0 + bx] {
-                        continue;
-                    }
-                    let i = (by + 1) * pw + bx + 1;
-                    *s = right[i] == PAIR_FIRST
-                        || right[i - 1] == PAIR_SECOND
-                        || up[i] == PAIR_FIRST
-                        || up[i - pw] == PAIR_SECOND;
-                    if *s {
-                        on.push(y * w + self.x0 + bx);
+                for (c, chunk) in row.chunks(32).enumerate() {
+                    if chunk.iter().fold(false, |a, &b| a | b) {
+                        let first = y * w + x0 + c * 32;
+                        on.extend((0..chunk.len()).filter(|&k| chunk[k]).map(|k| first + k));
                     }
                 }
                 on
             })
             .collect();
-        let cells: Vec<usize> = skeleton_rows.concat();
-        let label = &mut out.edge_component;
-        edge_components(g, passable, &out.skeleton, label, &cells);
+        out.cells = skeleton_rows.concat();
+        edge_components(
+            g,
+            passable,
+            &out.skeleton,
+            &mut out.edge_component,
+            &out.cells,
+        );
         out
     }
 }
@@ -376,7 +423,7 @@ pub fn gvd(knowledge: &OccupancyGrid, trav: &Traversability) -> Gvd {
     // Everything outside the bounding box of the Free cells is an obstacle, so the
     // box plus a one-cell ring (the window) is all that matters.
     let Some((x0, y0, x1, y1)) = knowledge.bounds_of(|c| c == CellState::Free) else {
-        return Gvd::blank(g.len(), Spans::default());
+        return Gvd::blank(g.len());
     };
     let kept = SCRATCH.lock().ok().and_then(|mut k| k.take());
     let mut field = kept.unwrap_or_default();

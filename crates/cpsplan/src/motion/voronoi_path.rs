@@ -82,7 +82,7 @@ pub fn voronoi_path(
                     run.clear();
                     let mut low = f32::INFINITY;
                     run.extend(edge[a..].iter().map(|&c| {
-                        low = low.min(gvd.clearance[g.index(c)]);
+                        low = low.min(gvd.clearance(g.index(c)));
                         low
                     }));
                 }
@@ -91,7 +91,7 @@ pub fn voronoi_path(
             append(pull(&edge, |a, b| {
                 let min = floor(a, b);
                 segment_clear(g, edge[a], edge[b], |i| {
-                    passable[i] && gvd.clearance[i] >= min
+                    passable[i] && gvd.clearance(i) >= min
                 })
             }));
             append(pull(&leave, |a, b| clear(leave[a], leave[b])));
@@ -175,7 +175,7 @@ mod tests {
         let lowest = std::cell::Cell::new(f32::INFINITY);
         for l in path.windows(2) {
             segment_clear(g, l[0], l[1], |i| {
-                lowest.set(lowest.get().min(d.clearance[i]));
+                lowest.set(lowest.get().min(d.clearance(i)));
                 true
             });
         }

@@ -1,6 +1,8 @@
 //! Connected parts: of the obstacle cells (step 2) and of the skeleton
 //! ([`super::Gvd::edge_component`]).
 
+use std::ops::RangeInclusive;
+
 use super::NONE;
 use crate::grid::window::Window;
 use crate::grid::GridGeometry;
@@ -13,57 +15,100 @@ pub(super) struct Components {
     pw: usize,
     /// Runs of obstacle cells: (row, first column, last column), row by row.
     runs: Vec<(usize, usize, usize)>,
+    /// Per row: the index of its first run (and one past the last row: the
+    /// number of runs).
     row_start: Vec<usize>,
     parent: Vec<u32>,
+    /// Per cell: its component's label ([`NONE`] off the obstacles).
     pub(super) label: Vec<u32>,
 }
 
 impl Components {
     /// Labels of the 8-connected components of the obstacle cells ([`NONE`]
-    /// elsewhere; a component's label is some number shared by its cells and no
-    /// other's).
+    /// elsewhere): a component's label is the index of its first cell in row
+    /// order, shared by its cells and no other's.
     ///
     /// Union-find over the row runs of obstacle cells: a run joins every run of
     /// the row below that overlaps it or touches it diagonally. Linear in the
     /// cells, and fast where obstacles are large solid areas.
     pub(super) fn label(&mut self, pw: usize, ph: usize, obstacle: &[bool]) -> &[u32] {
         self.pw = pw;
+        self.runs.clear();
+        self.row_start.clear();
+        for y in 0..ph {
+            self.row_start.push(self.runs.len());
+            push_runs(&mut self.runs, y, &obstacle[y * pw..][..pw]);
+        }
+        self.row_start.push(self.runs.len());
+        self.join();
+        self.label.clear();
+        self.label.resize(pw * ph, NONE);
+        for i in 0..self.runs.len() {
+            self.fill_run(i);
+        }
+        &self.label
+    }
+
+    /// [`Self::label`] after the obstacle cells changed only in `rows` (and
+    /// within `cols`) since the last labelling of this window: the runs of
+    /// those rows found again, the components joined again over the runs, and
+    /// the labels written where they change (every run of `rows`, and the runs
+    /// elsewhere whose component's first cell moved).
+    pub(super) fn relabel(
+        &mut self,
+        obstacle: &[bool],
+        rows: RangeInclusive<usize>,
+        cols: RangeInclusive<usize>,
+    ) {
+        let pw = self.pw;
+        let (y0, y1) = (*rows.start(), *rows.end());
+        let ph = self.row_start.len().saturating_sub(1);
+        if y0 > y1 || y1 >= ph {
+            return;
+        }
+        let (lo, hi) = (self.row_start[y0], self.row_start[y1 + 1]);
+        let mut fresh = Vec::new();
+        let mut starts = Vec::with_capacity(y1 - y0 + 1);
+        for y in rows.clone() {
+            starts.push(lo + fresh.len());
+            push_runs(&mut fresh, y, &obstacle[y * pw..][..pw]);
+        }
+        let shift = fresh.len() as isize - (hi - lo) as isize;
+        self.runs.splice(lo..hi, fresh.iter().copied());
+        self.row_start[y0..=y1].copy_from_slice(&starts);
+        for s in &mut self.row_start[y1 + 1..] {
+            *s = s.wrapping_add_signed(shift);
+        }
+        self.join();
+        // Cells of the changed rows that are no obstacle any more.
+        for y in rows {
+            for x in cols.clone() {
+                if !obstacle[y * pw + x] {
+                    self.label[y * pw + x] = NONE;
+                }
+            }
+        }
+        let changed = self.row_start[y0]..self.row_start[y1 + 1];
+        for i in 0..self.runs.len() {
+            let (y, a, _) = self.runs[i];
+            if changed.contains(&i) || self.label[y * pw + a] != self.first_cell(i) {
+                self.fill_run(i);
+            }
+        }
+    }
+
+    /// Joins the runs into components (union-find; each root is the first
+    /// run of its component).
+    fn join(&mut self) {
         let Self {
             runs,
             row_start,
             parent,
-            label,
             ..
         } = self;
-        runs.clear();
-        row_start.clear();
-        for y in 0..ph {
-            row_start.push(runs.len());
-            let row = &obstacle[y * pw..][..pw];
-            let mut x = 0;
-            while x < pw {
-                if row[x] {
-                    let first = x;
-                    while x < pw && row[x] {
-                        x += 1;
-                    }
-                    runs.push((y, first, x - 1));
-                } else {
-                    x += 1;
-                }
-            }
-        }
-        row_start.push(runs.len());
         parent.clear();
         parent.extend(0..runs.len() as u32);
-        fn root(parent: &mut [u32], mut i: u32) -> u32 {
-            while parent[i as usize] != i {
-                let up = parent[parent[i as usize] as usize];
-                parent[i as usize] = up;
-                i = up;
-            }
-            i
-        }
+        let ph = row_start.len().saturating_sub(1);
         for y in 1..ph {
             let below = row_start[y - 1]..row_start[y];
             let mut j = below.start;
@@ -84,13 +129,47 @@ impl Components {
                 }
             }
         }
-        label.clear();
-        label.resize(pw * ph, NONE);
-        for (i, &(y, a, b)) in runs.iter().enumerate() {
-            let r = root(parent, i as u32);
-            label[y * pw + a..=y * pw + b].fill(r);
+    }
+
+    /// The label of run `i`'s component: the index of its first cell.
+    fn first_cell(&mut self, i: usize) -> u32 {
+        let r = root(&mut self.parent, i as u32) as usize;
+        let (y, a, _) = self.runs[r];
+        (y * self.pw + a) as u32
+    }
+
+    /// Writes run `i`'s label into its cells.
+    fn fill_run(&mut self, i: usize) {
+        let l = self.first_cell(i);
+        let (y, a, b) = self.runs[i];
+        let row = y * self.pw;
+        self.label[row + a..=row + b].fill(l);
+    }
+}
+
+/// The root of `i` in the union-find forest `parent`, halving the path.
+fn root(parent: &mut [u32], mut i: u32) -> u32 {
+    while parent[i as usize] != i {
+        let up = parent[parent[i as usize] as usize];
+        parent[i as usize] = up;
+        i = up;
+    }
+    i
+}
+
+/// Appends the runs of obstacle cells of row `y`.
+fn push_runs(runs: &mut Vec<(usize, usize, usize)>, y: usize, row: &[bool]) {
+    let mut x = 0;
+    while x < row.len() {
+        if row[x] {
+            let first = x;
+            while x < row.len() && row[x] {
+                x += 1;
+            }
+            runs.push((y, first, x - 1));
+        } else {
+            x += 1;
         }
-        label
     }
 }
 

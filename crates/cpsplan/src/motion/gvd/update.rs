@@ -1,6 +1,8 @@
 //! The GVD's obstacle side kept across scans and updated where a scan
 //! changed the knowledge map ([`VoronoiField`]).
 
+use std::sync::Arc;
+
 use super::components::Components;
 use super::{clearance_of, Field, Gvd, PairTest};
 use crate::grid::window::Window;
@@ -72,16 +74,18 @@ impl VoronoiField {
             (flips.x0..=flips.x1, flips.y0..=flips.y1),
             &mut changes,
         );
+        let clearance = Arc::make_mut(&mut f.clearance);
         for &(py, a, b) in &changes {
             let row = py * pw;
-            for (c, &d) in f.clearance[row + a..=row + b]
+            for (c, &d) in clearance[row + a..=row + b]
                 .iter_mut()
                 .zip(&f.features.d2[row + a..=row + b])
             {
                 *c = clearance_of(d);
             }
         }
-        f.components.label(pw, ph, &f.obstacle);
+        f.components
+            .relabel(&f.obstacle, flips.y0..=flips.y1, flips.x0..=flips.x1);
         let new_label = window_of(&f.components.label, around, pw);
         let kept: Vec<(u32, u32)> = old
             .iter()
@@ -200,7 +204,7 @@ fn largest(row: &[u32]) -> u32 {
 /// How the partition into components changed on the cells that stayed
 /// obstacles.
 #[derive(Debug, PartialEq)]
-pub(super) enum Regrouping {
+enum Regrouping {
     /// Not at all.
     Same,
     /// Components split and none merged: the new labels of every piece but the
@@ -213,7 +217,7 @@ pub(super) enum Regrouping {
 /// The [`Regrouping`] from the old and new labels of the cells that stayed
 /// obstacles around the change (which suffice: see [`VoronoiField`]), and the
 /// new components.
-pub(super) fn regrouping(mut pairs: Vec<(u32, u32)>, new: &Components) -> Regrouping {
+fn regrouping(mut pairs: Vec<(u32, u32)>, new: &Components) -> Regrouping {
     pairs.sort_unstable();
     pairs.dedup();
     let mut by_new: Vec<(u32, u32)> = pairs.iter().map(|&(a, b)| (b, a)).collect();
