@@ -7,11 +7,14 @@
 
 use std::collections::BTreeMap;
 use std::io::Cursor;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result};
 
 use super::ros_out::{Outlet, RosOut};
+use cpsplan::mission::Step;
+use cpsplan::OccupancyGrid;
+
 use crate::report::{write_temp, TempFile};
 
 pub use super::ros_out::clock_ns;
@@ -97,5 +100,69 @@ impl RosOut<McapFile> {
             .context("cannot finish the MCAP file")?;
         let bytes = file.writer.into_inner().into_inner();
         write_temp(path, &bytes)
+    }
+}
+
+/// A run's optional MCAP recording (`--mcap-out`), fed from the callbacks of
+/// an episode or a campaign step: nothing without a path; otherwise the first
+/// error is kept (later messages are skipped) and reported as `--mcap-out`.
+pub struct McapRecording {
+    out: Option<(PathBuf, McapOut)>,
+    error: Option<anyhow::Error>,
+}
+
+impl McapRecording {
+    /// A recording into `path` for a team of `children` children, or none.
+    pub fn new(path: Option<&Path>, children: usize) -> Result<Self> {
+        let out = match path {
+            Some(p) => Some((p.to_path_buf(), McapOut::new(children)?)),
+            None => None,
+        };
+        Ok(Self { out, error: None })
+    }
+
+    /// Applies `write` to the file, if there is one and nothing failed yet;
+    /// an error is kept for [`Self::check`].
+    pub fn with(&mut self, write: impl FnOnce(&mut McapOut) -> Result<()>) {
+        if let (Some((_, m)), None) = (self.out.as_mut(), self.error.as_ref()) {
+            self.error = write(m).err();
+        }
+    }
+
+    /// A planning step's messages ([`McapOut::record`]).
+    pub fn record(&mut self, step: &Step, knowledge: &OccupancyGrid) {
+        self.with(|m| m.record(step, knowledge));
+    }
+
+    /// The first error so far, as `--mcap-out`.
+    pub fn check(&mut self) -> Result<()> {
+        match self.error.take() {
+            Some(e) => Err(e.context("--mcap-out")),
+            None => Ok(()),
+        }
+    }
+
+    /// Finishes the file under a temporary name beside its path
+    /// ([`McapOut::finish`]), after [`Self::check`]; `None` without a file.
+    pub fn finish(mut self) -> Result<Option<McapFinished>> {
+        self.check()?;
+        let Some((path, m)) = self.out else {
+            return Ok(None);
+        };
+        let tmp = m.finish(&path).context("--mcap-out")?;
+        Ok(Some(McapFinished { path, tmp }))
+    }
+}
+
+/// A finished recording under its temporary name.
+pub struct McapFinished {
+    path: PathBuf,
+    tmp: TempFile,
+}
+
+impl McapFinished {
+    /// Moves the file into place, once everything else of the run is.
+    pub fn persist(self) -> Result<()> {
+        self.tmp.persist(&self.path)
     }
 }

@@ -24,7 +24,7 @@ use super::store::{
     ScanRecord,
 };
 use crate::formats::cloud::{read_cloud, CloudFormat, CloudReadOptions};
-use crate::formats::mcap_out::{clock_ns, McapOut};
+use crate::formats::mcap_out::{clock_ns, McapOut, McapRecording};
 use crate::formats::readings::read_readings;
 use crate::formats::ros_out::{Outlet, RosOut};
 use crate::formats::rosmap::{encode_map, ReadLimits};
@@ -378,30 +378,14 @@ pub fn run(args: &AddArgs) -> Result<()> {
     let dir = &args.dir;
     let config = CampaignFile::load(dir)?.config;
     let input = ScanInput::from_files(&args.scan, &args.readings, &config)?;
-    let mut mcap = args
-        .mcap_out
-        .as_ref()
-        .map(|_| McapOut::new(config.children.count))
-        .transpose()?;
-    let mut mcap_error = None;
-    let mut prepared = prepare(dir, input, |step, k| {
-        if let (Some(m), None) = (mcap.as_mut(), mcap_error.as_ref()) {
-            mcap_error = m.record(step, k).err();
-        }
-    })?;
-    if let Some(e) = mcap_error {
-        return Err(e.context("--mcap-out"));
-    }
-    let mcap = match (&args.mcap_out, mcap) {
-        (Some(path), Some(mut m)) => {
-            write_mcap_scans(&mut m, &prepared, dir).context("--mcap-out")?;
-            Some((path, m.finish(path).context("--mcap-out")?))
-        }
-        _ => None,
-    };
+    let mut mcap = McapRecording::new(args.mcap_out.as_deref(), config.children.count)?;
+    let mut prepared = prepare(dir, input, |step, k| mcap.record(step, k))?;
+    mcap.check()?;
+    mcap.with(|m| write_mcap_scans(m, &prepared, dir));
+    let mcap = mcap.finish()?;
     prepared.commit(dir)?;
-    if let Some((path, tmp)) = mcap {
-        tmp.persist(path)?;
+    if let Some(m) = mcap {
+        m.persist()?;
     }
     if !args.quiet {
         for l in &prepared.left_out {

@@ -3,7 +3,7 @@
 use std::path::PathBuf;
 use std::time::Instant;
 
-use anyhow::{bail, Context, Result};
+use anyhow::{bail, Result};
 use clap::{Args, ValueEnum};
 use cpsplan::config::{ChildStrategy, InstrumentModel, Planner, Preset, Scoring, TargetPlacement};
 use cpsplan::mission::{Summary, TargetOrigin, START_REGION_SHARE};
@@ -24,7 +24,7 @@ use crate::args::{
     defaults, parse_count, parse_instrument, parse_planner, parse_point, parse_preset, parse_real,
     parse_scan_number, parse_seed, parse_strategy, scoring_name, with_default,
 };
-use crate::formats::mcap_out::{clock_ns, McapOut};
+use crate::formats::mcap_out::{clock_ns, McapRecording};
 use crate::formats::rosmap::ReadLimits;
 use crate::formats::targets::read_targets;
 use crate::render::{percent, render_step, StepView};
@@ -340,16 +340,9 @@ pub fn run(args: &ExploreArgs) -> Result<()> {
     let mut page = args
         .html
         .then(|| crate::html::PageRecorder::new(*truth.geometry()));
-    let mut mcap = args
-        .mcap_out
-        .as_ref()
-        .map(|_| McapOut::new(config.children.count))
-        .transpose()?;
-    let mut mcap_error = None;
+    let mut mcap = McapRecording::new(args.mcap_out.as_deref(), config.children.count)?;
     let episode = run_episode_with(&truth, start, &config, |step, knowledge| {
-        if let (Some(m), None) = (mcap.as_mut(), mcap_error.as_ref()) {
-            mcap_error = m.record(step, knowledge).err();
-        }
+        mcap.record(step, knowledge);
         if let Some(page) = page.as_mut() {
             page.record(step, knowledge, &config);
         }
@@ -373,21 +366,18 @@ pub fn run(args: &ExploreArgs) -> Result<()> {
     if let Some((scan, e)) = figure_error {
         bail!("cannot draw the figure of step {scan}: {e}");
     }
-    if let Some(e) = mcap_error {
-        return Err(e.context("--mcap-out"));
-    }
+    mcap.check()?;
     let mut points = Vec::new();
     let mut model_warning = None;
-    let mut scan_error = None;
     let model = match build_model(&truth, &episode, &config, |k, p| {
         if cloud_format.is_some() {
             points.extend_from_slice(p);
         }
-        if let (Some(m), Some(step)) = (mcap.as_mut(), episode.steps.get(k as usize)) {
-            let xyz: Vec<[f64; 3]> = p.iter().map(|q| q.position).collect();
-            if let Err(e) = m.scan(clock_ns(step.clock_h), &xyz) {
-                scan_error.get_or_insert(e);
-            }
+        if let Some(step) = episode.steps.get(k as usize) {
+            mcap.with(|m| {
+                let xyz: Vec<[f64; 3]> = p.iter().map(|q| q.position).collect();
+                m.scan(clock_ns(step.clock_h), &xyz)
+            });
         }
     }) {
         Ok(m) => Some(m),
@@ -397,12 +387,8 @@ pub fn run(args: &ExploreArgs) -> Result<()> {
         }
         Err(e) => bail!("--cloud-out: {e}"),
     };
-    if let Some(e) = scan_error {
-        return Err(e.context("--mcap-out"));
-    }
-    if let Some(m) = mcap.as_mut() {
-        write_mcap_stations(m, &episode).context("--mcap-out")?;
-    }
+    mcap.with(|m| write_mcap_stations(m, &episode));
+    mcap.check()?;
     // The model in the filtering poses too, for its accuracy, where the episode
     // has smoothed ones.
     let filtering = match &model {
@@ -445,10 +431,7 @@ pub fn run(args: &ExploreArgs) -> Result<()> {
     if let Some(field) = &field {
         write_field_data(field.path(), &truth, &episode, &config)?;
     }
-    let mcap = match (&args.mcap_out, mcap) {
-        (Some(path), Some(m)) => Some((path, m.finish(path).context("--mcap-out")?)),
-        _ => None,
-    };
+    let mcap = mcap.finish()?;
     report.commit()?;
     if let Some(field) = field {
         field.commit()?;
@@ -457,8 +440,8 @@ pub fn run(args: &ExploreArgs) -> Result<()> {
         cloud.persist(path)?;
         stations.persist(&stations_path(path))?;
     }
-    if let Some((path, tmp)) = mcap {
-        tmp.persist(path)?;
+    if let Some(m) = mcap {
+        m.persist()?;
     }
     let scans = episode.steps.len();
     let mut missing: Vec<usize> = args
