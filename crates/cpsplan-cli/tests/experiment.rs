@@ -392,3 +392,101 @@ fn a_killed_run_resumes_to_the_same_records() {
     );
     assert_eq!(records(&out), records(&whole));
 }
+
+#[test]
+fn one_writer_per_output_directory() {
+    let tmp = tempfile::tempdir().unwrap();
+    let spec = write_spec(tmp.path(), SMALL);
+    let spec = spec.to_str().unwrap();
+    std::fs::create_dir(tmp.path().join("other")).unwrap();
+    let other = write_spec(
+        &tmp.path().join("other"),
+        &SMALL.replace("max_scans = 4", "max_scans = 3"),
+    );
+    let out = tmp.path().join("run");
+    let o = out.to_str().unwrap();
+    // Held by another process (here: this one): refused, naming its pid,
+    // and nothing written.
+    let held = cpsplan_cli::lock::OutLock::acquire(&out).unwrap();
+    let pid = format!("pid {}", std::process::id());
+    refused(&["experiment", spec, "--out", o], &pid);
+    assert!(!out.exists(), "nothing written beside a holder");
+    drop(held);
+    // Two runs of different files started at once into one new --out: one
+    // runs, the other is refused, and the directory is the one run's whole.
+    let bin = assert_cmd::cargo::cargo_bin("cpsplan");
+    let start = |file: &str| {
+        std::process::Command::new(&bin)
+            .args(["experiment", file, "--out", o, "--quiet"])
+            .stderr(std::process::Stdio::piped())
+            .spawn()
+            .expect("starts")
+    };
+    let (a, b) = (start(spec), start(other.to_str().unwrap()));
+    let (a, b) = (a.wait_with_output().unwrap(), b.wait_with_output().unwrap());
+    assert_eq!(
+        [a.status.success(), b.status.success()]
+            .iter()
+            .filter(|&&ok| ok)
+            .count(),
+        1,
+        "exactly one writer: {} / {}",
+        String::from_utf8_lossy(&a.stderr),
+        String::from_utf8_lossy(&b.stderr)
+    );
+    let (winner, loser) = if a.status.success() {
+        (SMALL.to_string(), b)
+    } else {
+        (std::fs::read_to_string(&other).unwrap(), a)
+    };
+    let why = String::from_utf8_lossy(&loser.stderr);
+    assert_eq!(why.trim().lines().count(), 1, "{why}");
+    assert_eq!(
+        std::fs::read_to_string(out.join("experiment.toml")).unwrap(),
+        winner
+    );
+    let stdout = run_ok(&[
+        "experiment",
+        "--out",
+        o,
+        "--resume",
+        if winner == SMALL {
+            spec
+        } else {
+            other.to_str().unwrap()
+        },
+    ]);
+    assert!(
+        stdout.contains("0 run, 8 done before, of 8 episodes"),
+        "{stdout}"
+    );
+    assert!(
+        !tmp.path().join(".run.cpsplan-lock").exists(),
+        "the lock goes with its holder"
+    );
+}
+
+#[test]
+fn a_run_killed_before_its_experiment_file_resumes() {
+    let tmp = tempfile::tempdir().unwrap();
+    let spec = write_spec(tmp.path(), SMALL);
+    let spec = spec.to_str().unwrap();
+    let out = tmp.path().join("run");
+    let o = out.to_str().unwrap();
+    run_ok(&["experiment", spec, "--out", o, "--quiet"]);
+    let whole = records(&out);
+    // As if killed right after plan.json: no records, no experiment file.
+    std::fs::remove_dir_all(out.join("records")).unwrap();
+    std::fs::remove_file(out.join("experiment.toml")).unwrap();
+    std::fs::remove_file(out.join("episodes.csv")).unwrap();
+    let stdout = run_ok(&["experiment", spec, "--out", o, "--resume"]);
+    assert!(
+        stdout.contains("8 run, 0 done before, of 8 episodes"),
+        "{stdout}"
+    );
+    assert_eq!(
+        std::fs::read_to_string(out.join("experiment.toml")).unwrap(),
+        SMALL
+    );
+    assert_eq!(records(&out), whole);
+}

@@ -26,6 +26,7 @@ use crate::experiment::{
 };
 use crate::formats::rosmap::{read_text, ReadLimits};
 use crate::html::{episode_page, page_title, PageRecorder};
+use crate::lock::OutLock;
 use crate::report::{write_atomic, ReportDir};
 
 /// Options of `cpsplan experiment`.
@@ -104,8 +105,9 @@ pub fn run(args: &ExperimentArgs) -> Result<()> {
     let in_shard = |e: &&EpisodeSpec| shard.holds(e.index);
     let mine: Vec<&EpisodeSpec> = plan.episodes.iter().filter(in_shard).collect();
     let maps = MapFiles::load(&mine, experiment_dir)?;
+    let _lock = OutLock::acquire(out)?;
     let dir = if args.resume {
-        ExperimentDir::resume(out, plan, shard)?
+        ExperimentDir::resume(out, &text, plan, shard)?
     } else {
         ExperimentDir::create(out, &text, plan, shard)?
     };
@@ -463,6 +465,7 @@ fn merge(args: &MergeArgs) -> Result<()> {
             }
         );
     }
+    let _lock = OutLock::acquire(&args.out)?;
     refuse_filled(&args.out, "choose a new directory")?;
     let spec = std::fs::read(first.root().join(SPEC_FILE))
         .with_context(|| format!("cannot read {}", first.root().join(SPEC_FILE).display()))?;

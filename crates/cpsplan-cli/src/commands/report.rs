@@ -22,6 +22,7 @@ use crate::experiment::summary::{
 use crate::experiment::{EpisodeRecord, ExperimentDir, Outcome};
 use crate::html::episodes::{player_section, ShownEpisode};
 use crate::html::{escape, page_data, page_title};
+use crate::lock::OutLock;
 use crate::render::{Chart, Series, SERIES_COLOURS};
 use crate::report::{write_atomic, ReportDir};
 
@@ -310,6 +311,7 @@ pub fn run(args: &ReportArgs) -> Result<()> {
     }
     let plan = &dir.file.plan;
     let out_dir = args.out.clone().unwrap_or_else(|| args.dir.join("report"));
+    let _lock = OutLock::acquire(&out_dir)?;
     let report = ReportDir::create_for(&out_dir, is_report_file)?;
     let all = conditions(&records);
     let mut maps: Vec<&str> = Vec::new();

@@ -106,7 +106,7 @@ impl ExperimentDir {
             out,
             "--resume continues the experiment there, or choose a new directory",
         )?;
-        std::fs::create_dir_all(out.join(RECORDS_DIR))
+        std::fs::create_dir_all(out)
             .with_context(|| format!("cannot create directory {}", out.display()))?;
         let dir = Self {
             root: out.to_path_buf(),
@@ -115,15 +115,20 @@ impl ExperimentDir {
                 shard: Some(shard),
             },
         };
-        write_atomic(&out.join(SPEC_FILE), spec_text.as_bytes())?;
-        // plan.json last: it marks a directory as an experiment's.
+        // plan.json first, whole: a run that dies before it leaves an empty
+        // directory, one that dies after it a directory `--resume` finishes
+        // (it writes the experiment file again if it is missing).
         dir.write_plan()?;
+        std::fs::create_dir_all(out.join(RECORDS_DIR))
+            .with_context(|| format!("cannot create directory {}", out.display()))?;
+        write_atomic(&out.join(SPEC_FILE), spec_text.as_bytes())?;
         Ok(dir)
     }
 
     /// Opens the experiment in `out` to continue it: its plan and shard must be
-    /// `plan` and `shard`.
-    pub fn resume(out: &Path, plan: Plan, shard: Shard) -> Result<Self> {
+    /// `plan` and `shard`, planned from the experiment file `spec_text` (kept
+    /// again if a run died before it wrote it).
+    pub fn resume(out: &Path, spec_text: &str, plan: Plan, shard: Shard) -> Result<Self> {
         let dir = Self::open(out)?;
         let fresh = PlanFile {
             plan,
@@ -145,6 +150,9 @@ impl ExperimentDir {
         }
         std::fs::create_dir_all(out.join(RECORDS_DIR))
             .with_context(|| format!("cannot create directory {}", out.display()))?;
+        if !out.join(SPEC_FILE).exists() {
+            write_atomic(&out.join(SPEC_FILE), spec_text.as_bytes())?;
+        }
         Ok(dir)
     }
 
