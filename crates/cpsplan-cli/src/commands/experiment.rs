@@ -118,6 +118,9 @@ pub fn run(args: &ExperimentArgs) -> Result<()> {
         }
         std::fs::remove_file(path).with_context(|| format!("cannot remove {}", path.display()))?;
     }
+    for (path, why) in &records.foreign {
+        eprintln!("warning: left alone: {} ({why})", path.display());
+    }
     let episodes = &dir.file.plan.episodes;
     let total = episodes.len();
     let mine: Vec<&EpisodeSpec> = episodes.iter().filter(in_shard).collect();
@@ -422,6 +425,9 @@ fn merge(args: &MergeArgs) -> Result<()> {
     let mut found: Vec<Option<(PathBuf, EpisodeRecord)>> = vec![None; episodes.len()];
     for d in &dirs {
         let records = d.records()?;
+        for (path, why) in &records.foreign {
+            eprintln!("warning: left out: {} ({why})", path.display());
+        }
         if let Some((path, why)) = records.damaged.first() {
             bail!(
                 "{}: {why}; `experiment {SPEC_FILE} --out {} --resume` with its --shard redoes it",
@@ -465,13 +471,23 @@ fn merge(args: &MergeArgs) -> Result<()> {
             }
         );
     }
+    let target = real_path(&args.out);
+    if let Some(inside) = seen.iter().find(|d| target.starts_with(d)) {
+        bail!(
+            "--out {} lies inside {}, a directory being merged: choose a directory outside them",
+            args.out.display(),
+            inside.display()
+        );
+    }
     let _lock = OutLock::acquire(&args.out)?;
     refuse_filled(&args.out, "choose a new directory")?;
-    let spec = std::fs::read(first.root().join(SPEC_FILE))
-        .with_context(|| format!("cannot read {}", first.root().join(SPEC_FILE).display()))?;
+    let spec = read_text(
+        &first.root().join(SPEC_FILE),
+        ReadLimits::default().max_text_bytes,
+    )?;
     let out = ReportDir::create(&args.out)?;
     let tmp = out.path();
-    write_atomic(&tmp.join(SPEC_FILE), &spec)?;
+    write_atomic(&tmp.join(SPEC_FILE), spec.as_bytes())?;
     let merged = PlanFile {
         plan: first.file.plan.clone(),
         shard: None,
@@ -524,4 +540,27 @@ fn merge(args: &MergeArgs) -> Result<()> {
         args.out.display()
     );
     Ok(())
+}
+
+/// `path` with its symbolic links and `..` resolved as far as it exists (the
+/// rest appended as given).
+fn real_path(path: &Path) -> PathBuf {
+    let mut missing = Vec::new();
+    let mut at = path.to_path_buf();
+    loop {
+        if let Ok(real) = std::fs::canonicalize(&at) {
+            return missing.iter().rev().fold(real, |p, part| p.join(part));
+        }
+        match (at.file_name().map(|n| n.to_os_string()), at.parent()) {
+            (Some(name), Some(parent)) => {
+                missing.push(name);
+                at = if parent.as_os_str().is_empty() {
+                    PathBuf::from(".")
+                } else {
+                    parent.to_path_buf()
+                };
+            }
+            _ => return path.to_path_buf(),
+        }
+    }
 }

@@ -302,7 +302,7 @@ fn shown_episodes(
 pub fn run(args: &ReportArgs) -> Result<()> {
     let dir = ExperimentDir::open(&args.dir)?;
     let records = dir.records()?;
-    for (path, why) in &records.damaged {
+    for (path, why) in records.damaged.iter().chain(&records.foreign) {
         eprintln!("warning: {} left out: {why}", path.display());
     }
     let records: Vec<EpisodeRecord> = records.valid.into_values().map(|(_, r)| r).collect();

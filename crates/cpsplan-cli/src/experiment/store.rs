@@ -14,6 +14,7 @@ use serde::{Deserialize, Serialize};
 
 use super::record::{episodes_csv, EpisodeRecord, RECORD_FORMAT};
 use super::spec::{Plan, PLAN_FORMAT};
+use crate::formats::rosmap::read_text;
 use crate::report::write_atomic;
 
 /// The experiment file, copied.
@@ -29,6 +30,8 @@ pub const PAGES_DIR: &str = "pages";
 
 /// The largest record file read, bytes.
 const MAX_RECORD_BYTES: u64 = 1 << 30;
+/// The largest `plan.json` read, bytes (a million episodes take about 2.6 GB).
+const MAX_PLAN_BYTES: u64 = 4 << 30;
 
 /// The `k`-th of `n` slices of an experiment (`1 ≤ k ≤ n`): the episodes whose
 /// index leaves the remainder `k − 1` when divided by `n`.
@@ -95,8 +98,14 @@ pub struct ExperimentDir {
 pub struct Records {
     /// The whole, matching records.
     pub valid: BTreeMap<usize, (PathBuf, EpisodeRecord)>,
-    /// Files that are not whole records of this plan, with why.
+    /// The directory's own files that are not whole records of this plan
+    /// (cut short, of another episode, temporary files of a killed run),
+    /// with why: `--resume` redoes them.
     pub damaged: Vec<(PathBuf, String)>,
+    /// Entries that are not the directory's own (other names, records beyond
+    /// the plan, anything but a regular file), with why: read by nobody and
+    /// left alone.
+    pub foreign: Vec<(PathBuf, String)>,
 }
 
 impl ExperimentDir {
@@ -159,12 +168,14 @@ impl ExperimentDir {
     /// Opens an experiment directory for reading.
     pub fn open(root: &Path) -> Result<Self> {
         let path = root.join(PLAN_FILE);
-        let text = std::fs::read_to_string(&path).with_context(|| {
-            format!(
-                "{} holds no experiment (cannot read {PLAN_FILE})",
+        if !path.exists() {
+            bail!(
+                "{} holds no experiment (it has no {PLAN_FILE})",
                 root.display()
-            )
-        })?;
+            );
+        }
+        // A regular file only (a FIFO would block, a device never end).
+        let text = read_text(&path, MAX_PLAN_BYTES)?;
         let file: PlanFile = serde_json::from_str(&text)
             .with_context(|| format!("{} is not an experiment plan", path.display()))?;
         if file.plan.format != PLAN_FORMAT {
@@ -241,9 +252,37 @@ impl ExperimentDir {
         }
         paths.sort();
         for path in paths {
-            match self.check_record(&path) {
+            let name = path
+                .file_name()
+                .map(|n| n.to_string_lossy().into_owned())
+                .unwrap_or_default();
+            // Only regular files are read (a FIFO would block, a device
+            // never end); a symbolic link counts as what it names.
+            if !std::fs::metadata(&path).is_ok_and(|m| m.is_file()) {
+                out.foreign.push((path, "not a regular file".into()));
+                continue;
+            }
+            let index = match parse_record_name(&name) {
+                Some(index) => index,
+                None if is_temp_name(&name) => {
+                    out.damaged
+                        .push((path, "a temporary file of a killed run".into()));
+                    continue;
+                }
+                None => {
+                    let why = "not a record file name (NNNNNN.json)";
+                    out.foreign.push((path, why.into()));
+                    continue;
+                }
+            };
+            let episodes = self.file.plan.episodes.len();
+            if index >= episodes {
+                let why = format!("episode {index}, but the plan has {episodes}");
+                out.foreign.push((path, why));
+                continue;
+            }
+            match self.check_record(&path, index) {
                 Ok(record) => {
-                    let index = record.episode.index;
                     out.valid.insert(index, (path, record));
                 }
                 Err(why) => out.damaged.push((path, why)),
@@ -252,19 +291,14 @@ impl ExperimentDir {
         Ok(out)
     }
 
-    /// The record in `path`, if it is a whole record of this plan.
-    fn check_record(&self, path: &Path) -> Result<EpisodeRecord, String> {
-        let name = path
-            .file_name()
-            .map(|n| n.to_string_lossy().into_owned())
-            .unwrap_or_default();
-        let index = parse_record_name(&name)
-            .ok_or_else(|| "not a record file name (NNNNNN.json)".to_string())?;
+    /// The record in `path`, a regular file named for episode `index` of
+    /// the plan, if it is a whole record of that episode.
+    fn check_record(&self, path: &Path, index: usize) -> Result<EpisodeRecord, String> {
         let meta = std::fs::metadata(path).map_err(|e| e.to_string())?;
         if meta.len() > MAX_RECORD_BYTES {
             return Err("larger than any record".into());
         }
-        let text = std::fs::read_to_string(path).map_err(|e| e.to_string())?;
+        let text = read_text(path, MAX_RECORD_BYTES).map_err(|e| e.to_string())?;
         let record: EpisodeRecord =
             serde_json::from_str(&text).map_err(|e| format!("not a whole record ({e})"))?;
         if record.format != RECORD_FORMAT {
@@ -317,6 +351,17 @@ pub fn record_name(index: usize) -> String {
 /// `000042.html`.
 pub fn page_name(index: usize) -> String {
     format!("{index:06}.html")
+}
+
+/// Whether `name` is a temporary record file ([`write_atomic`]'s
+/// `.NNNNNN.json.PID.tmp`).
+fn is_temp_name(name: &str) -> bool {
+    name.strip_prefix('.')
+        .and_then(|n| n.strip_suffix(".tmp"))
+        .and_then(|n| n.rsplit_once('.'))
+        .is_some_and(|(record, pid)| {
+            parse_record_name(record).is_some() && pid.bytes().all(|b| b.is_ascii_digit())
+        })
 }
 
 fn parse_record_name(name: &str) -> Option<usize> {
