@@ -516,6 +516,24 @@ fn entries_not_of_the_store_are_left_alone_and_never_read() {
     run_ok(&["experiment", spec, "--out", o, "--quiet"]);
     let whole = records(&out);
     let dir = out.join("records");
+    // Forged figures: a coverage of 10³⁰⁸, a scan count past the limit.
+    for (name, pointer, value) in [
+        (
+            "000002.json",
+            "/outcome/summary/coverage",
+            serde_json::json!(1e308),
+        ),
+        (
+            "000003.json",
+            "/outcome/summary/scans",
+            serde_json::json!(u64::MAX),
+        ),
+    ] {
+        let mut v: Value =
+            serde_json::from_str(&std::fs::read_to_string(dir.join(name)).unwrap()).unwrap();
+        *v.pointer_mut(pointer).unwrap() = value;
+        std::fs::write(dir.join(name), serde_json::to_vec(&v).unwrap()).unwrap();
+    }
     std::fs::write(dir.join("foo.json"), b"{}").unwrap();
     std::fs::copy(dir.join("000001.json"), dir.join("000099.json")).unwrap();
     std::fs::create_dir(dir.join("sub")).unwrap();
@@ -541,13 +559,16 @@ fn entries_not_of_the_store_are_left_alone_and_never_read() {
         "sub",
         "000007.json",
         "000005.json",
+        "000002.json",
+        "000003.json",
     ] {
         assert!(stderr.contains(name), "the report names {name}: {stderr}");
     }
+    assert!(stderr.contains("not a plausible record"), "{stderr}");
     let (ok, stdout, stderr) = run(&["experiment", spec, "--out", o, "--resume"]);
     assert!(ok, "{stderr}");
     assert!(
-        stdout.contains("2 run, 6 done before, of 8 episodes"),
+        stdout.contains("4 run, 4 done before, of 8 episodes"),
         "{stdout}"
     );
     for name in ["foo.json", "000099.json", "sub"] {

@@ -141,6 +141,59 @@ pub struct EpisodeRecord {
 }
 
 impl EpisodeRecord {
+    /// Whether the record's figures are ones an episode of its spec can give:
+    /// a forged or corrupted record (a coverage of 10³⁰⁸, more scans than the
+    /// scan limit, a finished episode without scans) is named, not averaged.
+    pub fn plausible(&self) -> Result<(), String> {
+        let Outcome::Finished { summary, scans, .. } = &self.outcome else {
+            return Ok(());
+        };
+        let share = |what: &str, v: f64| {
+            if (0.0..=1.0).contains(&v) {
+                Ok(())
+            } else {
+                Err(format!("{what} {v} is not a share within 0–1"))
+            }
+        };
+        let length = |what: &str, v: f64| {
+            if v.is_finite() && v >= 0.0 {
+                Ok(())
+            } else {
+                Err(format!("{what} {v} is not a finite length or time"))
+            }
+        };
+        let optional = |what: &str, v: Option<f64>| v.map_or(Ok(()), |v| length(what, v));
+        let limit = self.episode.config.mission.max_scans;
+        if scans.is_empty() || scans.len() > limit || summary.scans != scans.len() {
+            return Err(format!(
+                "{} scans listed, {} counted (the limit is {limit})",
+                scans.len(),
+                summary.scans
+            ));
+        }
+        share("coverage", summary.coverage)?;
+        share("wall coverage", summary.wall_coverage)?;
+        share("connected coverage", summary.connected_coverage)?;
+        length("parent travel", summary.parent_travel_m)?;
+        length("campaign time", summary.campaign_time_h)?;
+        optional("final σ", summary.final_position_sigma_m)?;
+        for t in &summary.child_travel_m {
+            length("child travel", *t)?;
+        }
+        for (k, s) in scans.iter().enumerate() {
+            if s.scan != k + 1 {
+                return Err(format!("scan {} listed as number {}", k + 1, s.scan));
+            }
+            share("coverage", s.coverage)?;
+            share("wall coverage", s.wall_coverage)?;
+            length("parent travel", s.parent_travel_m)?;
+            length("campaign clock", s.clock_h)?;
+            optional("σ", s.position_sigma_m)?;
+            optional("Monte Carlo error", s.monte_carlo_error_m)?;
+        }
+        Ok(())
+    }
+
     /// The record of a finished episode.
     pub fn finished(
         experiment: &str,

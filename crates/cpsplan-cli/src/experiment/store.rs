@@ -321,6 +321,9 @@ impl ExperimentDir {
                 spec.label
             ));
         }
+        record
+            .plausible()
+            .map_err(|why| format!("not a plausible record: {why}"))?;
         Ok(record)
     }
 
