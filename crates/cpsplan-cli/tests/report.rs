@@ -352,3 +352,62 @@ fn the_report_measures_every_planner_against_the_oracle() {
     let seed0 = of("paper", 0) / of("oracle", 0);
     assert!((shown - seed0).abs() < 0.006, "{row}: seed 0 {seed0}");
 }
+
+#[test]
+fn hostile_names_stay_text_in_every_table() {
+    let tmp = tempfile::tempdir().unwrap();
+    let text = "name = \"n|<b>x</b>\"\ndescription = \"two\\nlines <script>\"\n\
+                maps = [\"builtin:site\"]\nseeds = { from = 0, count = 1 }\n\
+                [base]\nmission.max_scans = 3\n\
+                [[parameters]]\nname = \"=HYPERLINK(\\\"http://x\\\")|<img src=x onerror=alert(1)>\"\n\
+                children.count = 0\n\
+                [[parameters]]\nname = \"plain\"\nchildren.count = 0\n";
+    let spec = write_spec(tmp.path(), text);
+    let out = tmp.path().join("run");
+    let o = out.to_str().unwrap();
+    run_ok(&["experiment", spec.to_str().unwrap(), "--out", o, "--quiet"]);
+    run_ok(&["report", o, "-q"]);
+    let md = std::fs::read_to_string(out.join("report/summary.md")).unwrap();
+    assert!(
+        !md.contains("<img") && !md.contains("<b>") && !md.contains("<script"),
+        "{md}"
+    );
+    // The headline table: a header, the alignment row and one row a
+    // condition, each with the header's number of cells.
+    let table: Vec<&str> = md
+        .lines()
+        .skip_while(|l| !l.starts_with("| condition"))
+        .take_while(|l| l.starts_with('|'))
+        .collect();
+    assert_eq!(table.len(), 4, "{md}");
+    let cells = |l: &str| l.replace("\\|", "").matches('|').count();
+    assert!(
+        table.iter().all(|l| cells(l) == cells(table[0])),
+        "{table:?}"
+    );
+    let html = std::fs::read_to_string(out.join("report/report.html")).unwrap();
+    assert!(
+        !html.contains("<img") && !html.contains("<b>x"),
+        "raw HTML in the page"
+    );
+    assert!(
+        html.contains("&lt;img src=x onerror=alert(1)&gt;"),
+        "the name shown as text"
+    );
+    for csv in ["report/summary.csv", "episodes.csv"] {
+        let text = std::fs::read_to_string(out.join(csv)).unwrap();
+        let mut reader = csv::Reader::from_reader(text.as_bytes());
+        for row in reader.records() {
+            for cell in row.unwrap().iter() {
+                assert!(
+                    cell.parse::<f64>().is_ok() || !cell.starts_with(['=', '+', '-', '@']),
+                    "{csv}: a formula cell {cell:?}"
+                );
+            }
+        }
+        // The parameter set's own column starts with its name.
+        if csv == "episodes.csv" {
+            assert!(text.contains("'=HYPERLINK"), "{csv} keeps the name: {text}");
+        }
+    }
+}

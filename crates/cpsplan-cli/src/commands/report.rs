@@ -19,6 +19,7 @@ use crate::experiment::summary::{
     bound_markdown_table, conditions, csv_table, curve, curve_against, greedy_bound_curve,
     headline, html_of_markdown, html_table, markdown_table, Condition, Metric,
 };
+use crate::experiment::text::md_text;
 use crate::experiment::{EpisodeRecord, ExperimentDir, Outcome};
 use crate::html::episodes::{player_section, ShownEpisode};
 use crate::html::{escape, page_data, page_title};
@@ -96,6 +97,23 @@ fn is_report_file(name: &str) -> bool {
 }
 
 /// A map's name as it may stand in a file name.
+/// [`file_part`] of every map, made unique: a map whose part another map
+/// already has (`x y` and `x_y`) gets `-2`, `-3`, … in order.
+fn file_parts(maps: &[&str]) -> Vec<String> {
+    let mut out: Vec<String> = Vec::with_capacity(maps.len());
+    for map in maps {
+        let base = file_part(map);
+        let mut part = base.clone();
+        let mut k = 1;
+        while out.contains(&part) {
+            k += 1;
+            part = format!("{base}-{k}");
+        }
+        out.push(part);
+    }
+    out
+}
+
 fn file_part(name: &str) -> String {
     name.chars()
         .map(|c| {
@@ -323,8 +341,8 @@ pub fn run(args: &ReportArgs) -> Result<()> {
     let mut md = format!(
         "# Experiment `{}`\n\n{}\n\n{} of {} episodes recorded{}.\n\n## Headline figures\n\n\
          {HEADLINE_NOTE}\n\n",
-        plan.name,
-        plan.description,
+        md_text(&plan.name),
+        md_text(&plan.description),
         records.len(),
         plan.episodes.len(),
         match dir.file.shard {
@@ -383,9 +401,9 @@ pub fn run(args: &ReportArgs) -> Result<()> {
         ));
     }
     let mut files: Vec<(PathBuf, Vec<u8>)> = Vec::new();
-    for map in &maps {
+    for (map, part) in maps.iter().zip(file_parts(&maps)) {
         let here: Vec<&Condition<'_>> = all.iter().filter(|c| c.map == *map).collect();
-        md.push_str(&format!("\n## {map}\n\n"));
+        md.push_str(&format!("\n## {}\n\n", md_text(map)));
         html.push_str(&format!(
             "<h2>{}</h2>\n<div class=\"charts\">\n",
             escape(map)
@@ -414,7 +432,7 @@ pub fn run(args: &ReportArgs) -> Result<()> {
                 });
             }
             charts.push((
-                format!("{}-{}", metric.name(), file_part(map)),
+                format!("{}-{part}", metric.name()),
                 Chart {
                     title: format!("{} \u{2014} {map}", plan.name),
                     subtitle: subtitle.clone(),
@@ -429,7 +447,7 @@ pub fn run(args: &ReportArgs) -> Result<()> {
         });
         if !s.is_empty() {
             charts.push((
-                format!("coverage-travel-{}", file_part(map)),
+                format!("coverage-travel-{part}"),
                 Chart {
                     title: format!("{} \u{2014} {map}", plan.name),
                     subtitle: "median coverage against the median parent travel, scan by scan"
@@ -490,6 +508,12 @@ mod tests {
         let all = conditions(records);
         let here: Vec<&Condition<'_>> = all.iter().collect();
         (styles(&here), metric_series(&here, Metric::Coverage))
+    }
+
+    #[test]
+    fn maps_whose_names_sanitise_alike_get_charts_of_their_own() {
+        let parts = file_parts(&["x y", "x_y", "x<y", "builtin:site", "x y"]);
+        assert_eq!(parts, ["x_y", "x_y-2", "x_y-3", "builtin_site", "x_y-4"]);
     }
 
     #[test]

@@ -5,6 +5,7 @@
 
 use super::record::Outcome;
 use super::summary::{median, Condition};
+use super::text::md_text;
 
 /// A median with its spread over the seeds.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -100,7 +101,7 @@ pub fn medians_markdown_table(conditions: &[Condition<'_>]) -> String {
     for m in conditions.iter().map(medians) {
         out.push_str(&format!(
             "| {} | {} | {} | {} | {} | {} | {} |\n",
-            m.condition,
+            md_text(&m.condition),
             m.finished,
             Spread::cell(m.scans, 0),
             Spread::cell(m.scans_to_99, 0),

@@ -9,6 +9,7 @@ pub mod record;
 pub mod spec;
 pub mod store;
 pub mod summary;
+pub mod text;
 
 pub use record::{EpisodeRecord, Outcome, ScanRecord};
 pub use spec::{parse_plan, read_plan, EpisodeSpec, Plan, SpecError};

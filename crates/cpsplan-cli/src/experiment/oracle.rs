@@ -10,6 +10,7 @@ use cpsplan::config::Planner;
 use super::medians::Spread;
 use super::record::{EpisodeRecord, Outcome};
 use super::summary::Condition;
+use super::text::md_text;
 
 /// The scan and the campaign clock at which `r` first covered `share` of the
 /// reachable free space.
@@ -130,7 +131,7 @@ pub fn oracle_markdown_table(conditions: &[Condition<'_>]) -> Option<String> {
     for r in rows {
         out.push_str(&format!(
             "| {} | {} | {:.1} | {:.1} | {:.2}, {:.2} | {:.2} | {:.2} | {:.2} |\n",
-            r.condition,
+            md_text(&r.condition),
             r.paired,
             r.scans.0,
             r.scans.1,

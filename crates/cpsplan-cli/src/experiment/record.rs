@@ -8,6 +8,7 @@ use cpsplan::Point;
 use serde::{Deserialize, Serialize};
 
 use super::spec::EpisodeSpec;
+use super::text::{csv_safe, csv_safe_option};
 
 /// The format name of a record.
 pub const RECORD_FORMAT: &str = "cpsplan-experiment-record/1";
@@ -293,10 +294,13 @@ impl EpisodeRecord {
 #[derive(Debug, Clone, Default, Serialize)]
 pub struct CsvRow {
     index: usize,
+    #[serde(serialize_with = "csv_safe")]
     label: String,
+    #[serde(serialize_with = "csv_safe")]
     map: String,
     start_x: Option<f64>,
     start_y: Option<f64>,
+    #[serde(serialize_with = "csv_safe")]
     parameters: String,
     planner: String,
     child_strategy: String,
@@ -315,8 +319,10 @@ pub struct CsvRow {
     final_position_sigma_m: Option<f64>,
     error_percent_of_travel: Option<f64>,
     campaign_time_h: Option<f64>,
+    #[serde(serialize_with = "csv_safe_option")]
     stop_reason: Option<String>,
     wall_ms: f64,
+    #[serde(serialize_with = "csv_safe_option")]
     error: Option<String>,
 }
 

@@ -5,6 +5,7 @@
 use serde::Serialize;
 
 use super::record::{BoundRecord, EpisodeRecord, Outcome, ScanRecord};
+use super::text::{csv_safe, md_cells, md_text};
 use crate::html::escape;
 
 /// The episodes of one condition: the same map, start, parameter set, planner,
@@ -219,6 +220,7 @@ fn mean_sd(values: &[f64]) -> Option<(f64, f64)> {
 #[derive(Debug, Clone, Serialize)]
 pub struct Headline {
     /// The condition's label.
+    #[serde(serialize_with = "csv_safe")]
     pub condition: String,
     /// Episodes recorded.
     pub episodes: usize,
@@ -417,7 +419,7 @@ pub fn markdown_table(rows: &[Headline]) -> String {
         };
         out.push_str(&format!(
             "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |\n",
-            r.condition,
+            md_text(&r.condition),
             episodes,
             pm(r.scans_mean, r.scans_sd, 1),
             cell(r.scans_to_90_mean, 1),
@@ -457,7 +459,7 @@ pub fn bound_markdown_table(rows: &[Headline]) -> Option<String> {
     for r in with {
         out.push_str(&format!(
             "| {} | {} | {} | {} | {} | {} | {} | {} | {} |\n",
-            r.condition,
+            md_text(&r.condition),
             cell(r.scans_to_90_mean, 1),
             cell(r.bound_greedy_90_mean, 1),
             cell(r.bound_lower_90_mean, 1),
@@ -485,8 +487,8 @@ pub fn html_of_markdown(md: &str) -> String {
         }
         let tag = if k == 0 { "th" } else { "td" };
         out.push_str("<tr>");
-        for cell in line.trim().trim_matches('|').split('|') {
-            out.push_str(&format!("<{tag}>{}</{tag}>", escape(cell.trim())));
+        for cell in md_cells(line) {
+            out.push_str(&format!("<{tag}>{}</{tag}>", escape(&cell)));
         }
         out.push_str("</tr>\n");
     }
