@@ -206,6 +206,14 @@ pub fn parse_plan(text: &str, path: &Path) -> Result<Plan, SpecError> {
 }
 
 /// The values of one axis: the given ones, or the configuration's own (`None`).
+/// A value that `values` holds twice, if any (sorted, so that a million
+/// seeds take no longer than their sorting).
+fn twice<K: Ord>(mut values: Vec<K>) -> Option<K> {
+    values.sort_unstable();
+    let at = values.windows(2).position(|w| w[0] == w[1])?;
+    values.into_iter().nth(at)
+}
+
 fn axis<T: Copy>(values: &[T]) -> Vec<Option<T>> {
     if values.is_empty() {
         vec![None]
@@ -255,6 +263,11 @@ fn expand(file: ExperimentFile, path: &Path) -> Result<Plan, SpecError> {
     };
     if seeds.is_empty() {
         return Err(invalid("`seeds` lists no seed".into()));
+    }
+    if let Some(seed) = twice(seeds.clone()) {
+        return Err(invalid(format!(
+            "`seeds` lists seed {seed} twice (it would count twice)"
+        )));
     }
     // Parameter sets: named tables of configuration keys.
     let mut sets: Vec<(String, Config)> = Vec::new();
@@ -332,6 +345,14 @@ fn expand(file: ExperimentFile, path: &Path) -> Result<Plan, SpecError> {
             places.push((map.clone(), start));
         }
     }
+    let keys = places
+        .iter()
+        .map(|(m, s)| (m, s.map(|p| (p.x.to_bits(), p.y.to_bits()))));
+    if let Some((map, _)) = twice(keys.collect()) {
+        return Err(invalid(format!(
+            "map `{map}` is listed twice with the same start (it would count twice)"
+        )));
+    }
     let planners = axis(&file.planners);
     let strategies = axis(&file.child_strategies);
     let instruments = axis(&file.instruments);
@@ -347,7 +368,25 @@ fn expand(file: ExperimentFile, path: &Path) -> Result<Plan, SpecError> {
     .try_fold(1usize, |n, &k| n.checked_mul(k))
     .filter(|&n| n <= MAX_EPISODES)
     .ok_or_else(|| invalid(format!("more than {MAX_EPISODES} episodes")))?;
-    let varies = Varies {
+    for (what, twice) in [
+        (
+            "planners",
+            twice(file.planners.iter().map(|p| p.name()).collect()),
+        ),
+        (
+            "child_strategies",
+            twice(file.child_strategies.iter().map(|c| c.name()).collect()),
+        ),
+        (
+            "instruments",
+            twice(file.instruments.iter().map(|m| m.name()).collect()),
+        ),
+    ] {
+        if let Some(value) = twice {
+            return Err(invalid(format!("`{what}` lists `{value}` twice")));
+        }
+    }
+    let mut varies = Varies {
         places: places.len() > 1,
         maps: {
             let mut m: Vec<&String> = places.iter().map(|(m, _)| m).collect();
@@ -358,6 +397,7 @@ fn expand(file: ExperimentFile, path: &Path) -> Result<Plan, SpecError> {
         planners: planners.len() > 1,
         strategies: strategies.len() > 1,
         instruments: instruments.len() > 1,
+        long: false,
     };
     let mut episodes = Vec::with_capacity(count);
     for (map, start) in &places {
@@ -399,6 +439,18 @@ fn expand(file: ExperimentFile, path: &Path) -> Result<Plan, SpecError> {
             }
         }
     }
+    // Labels name the conditions of a report: where the short ones collide
+    // (`a/lab.yaml` and `b/lab.yaml`, starts 2.01 and 2.04), every label
+    // gives the map's whole name and the starts in full.
+    let label_of = |v: &Varies, e: &EpisodeSpec| v.label(&e.map, e.start, &e.parameters, &e.config);
+    let mut labels: Vec<&String> = episodes.iter().map(|e| &e.label).collect();
+    labels.sort_unstable();
+    if labels.windows(2).any(|w| w[0] == w[1]) {
+        varies.long = true;
+        for e in &mut episodes {
+            e.label = label_of(&varies, e);
+        }
+    }
     Ok(Plan {
         format: PLAN_FORMAT.into(),
         name: file.name,
@@ -416,14 +468,21 @@ struct Varies {
     planners: bool,
     strategies: bool,
     instruments: bool,
+    /// Maps by their whole names and starts in full (short labels collide).
+    long: bool,
 }
 
 impl Varies {
     fn label(&self, map: &str, start: Option<Point>, set: &str, config: &Config) -> String {
-        let mut parts = vec![short_map(map)];
+        let mut parts = vec![if self.long {
+            map.to_string()
+        } else {
+            short_map(map)
+        }];
         // The start when one is given, or when it is all that tells places apart.
         if self.places && (start.is_some() || !self.maps) {
             parts.push(match start {
+                Some(p) if self.long => format!("at{},{}", p.x, p.y),
                 Some(p) => format!("at{:.1},{:.1}", p.x, p.y),
                 None => "default-start".into(),
             });
@@ -547,6 +606,25 @@ mod tests {
     }
 
     #[test]
+    fn labels_tell_apart_what_their_short_form_would_merge() {
+        let p = plan("name = \"x\"\nmaps = [\"a/lab.yaml\", \"b/lab.yaml\"]\nseeds = [0]").unwrap();
+        let labels: Vec<&str> = p.episodes.iter().map(|e| e.label.as_str()).collect();
+        assert_eq!(labels, ["a/lab.yaml/seed0", "b/lab.yaml/seed0"]);
+        let p = plan(
+            "name = \"x\"\nmaps = [{ map = \"builtin:site\", starts = [[2.01, 3.0], [2.04, 3.0]] }]\nseeds = [0]",
+        )
+        .unwrap();
+        let labels: Vec<&str> = p.episodes.iter().map(|e| e.label.as_str()).collect();
+        assert_eq!(
+            labels,
+            ["builtin:site/at2.01,3/seed0", "builtin:site/at2.04,3/seed0"]
+        );
+        // Short labels where they are distinct.
+        let p = plan("name = \"x\"\nmaps = [\"a/lab.yaml\", \"b/hall.yaml\"]").unwrap();
+        assert_eq!(p.episodes[0].label, "lab/seed0");
+    }
+
+    #[test]
     fn mistakes_are_named() {
         let cases = [
             ("name = \"x\"\nmaps = []", "lists no map"),
@@ -576,6 +654,18 @@ mod tests {
             (
                 "name = \"x\"\nmaps = [\"builtin:site\"]\nseeds = { from = 0, count = 600000 }\nplanners = [\"paper\", \"tour\"]",
                 "more than",
+            ),
+            (
+                "name = \"x\"\nmaps = [\"builtin:site\"]\nseeds = [3, 1, 3]",
+                "seed 3 twice",
+            ),
+            (
+                "name = \"x\"\nmaps = [\"builtin:site\", \"builtin:tunnel\", \"builtin:site\"]",
+                "`builtin:site` is listed twice",
+            ),
+            (
+                "name = \"x\"\nmaps = [\"builtin:site\"]\nplanners = [\"tour\", \"paper\", \"tour\"]",
+                "`tour` twice",
             ),
         ];
         for (text, needle) in cases {
