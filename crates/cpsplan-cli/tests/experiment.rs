@@ -272,6 +272,12 @@ fn shards_merge_into_the_whole_run() {
     let plan: Value =
         serde_json::from_str(&std::fs::read_to_string(merged.join("plan.json")).unwrap()).unwrap();
     assert!(plan["shard"].is_null());
+    // -q as for every other command: the same merge, nothing printed.
+    let quiet = tmp.path().join("merged-quietly");
+    let q = quiet.to_str().unwrap();
+    let said = run_ok(&["experiment", "merge", &s(1), &s(2), &s(3), "--out", q, "-q"]);
+    assert!(said.is_empty(), "{said}");
+    assert_eq!(records(&quiet), records(&merged));
     assert_eq!(
         std::fs::read_to_string(merged.join("episodes.csv"))
             .unwrap()

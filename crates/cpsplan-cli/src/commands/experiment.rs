@@ -82,6 +82,9 @@ pub struct MergeArgs {
     /// The merged directory (new or empty).
     #[arg(long, value_name = "DIR")]
     pub out: PathBuf,
+    /// Print nothing but errors and warnings.
+    #[arg(long, short)]
+    pub quiet: bool,
 }
 
 /// Runs `cpsplan experiment` or its `merge`.
@@ -526,6 +529,9 @@ fn merge(args: &MergeArgs) -> Result<()> {
         &crate::experiment::record::episodes_csv(&records)?,
     )?;
     out.commit()?;
+    if args.quiet {
+        return Ok(());
+    }
     println!(
         "experiment `{}`: {} records{} from {} director{} merged into {}",
         first.file.plan.name,

@@ -128,8 +128,9 @@ impl ExperimentDir {
         // directory, one that dies after it a directory `--resume` finishes
         // (it writes the experiment file again if it is missing).
         dir.write_plan()?;
-        std::fs::create_dir_all(out.join(RECORDS_DIR))
-            .with_context(|| format!("cannot create directory {}", out.display()))?;
+        let records = out.join(RECORDS_DIR);
+        std::fs::create_dir_all(&records)
+            .with_context(|| format!("cannot create directory {}", records.display()))?;
         write_atomic(&out.join(SPEC_FILE), spec_text.as_bytes())?;
         Ok(dir)
     }
@@ -157,8 +158,9 @@ impl ExperimentDir {
                 out.display()
             );
         }
-        std::fs::create_dir_all(out.join(RECORDS_DIR))
-            .with_context(|| format!("cannot create directory {}", out.display()))?;
+        let records = out.join(RECORDS_DIR);
+        std::fs::create_dir_all(&records)
+            .with_context(|| format!("cannot create directory {}", records.display()))?;
         if !out.join(SPEC_FILE).exists() {
             write_atomic(&out.join(SPEC_FILE), spec_text.as_bytes())?;
         }
