@@ -423,6 +423,23 @@ fn check_replaceable(out: &Path, ours: fn(&str) -> bool) -> Result<()> {
             out.display()
         );
     }
+    // The report replaces the directory whole: only one the caller may
+    // write into (an empty directory of another owner would be swapped for
+    // the caller's own).
+    let probe = out.join(format!(".cpsplan-probe-{}", std::process::id()));
+    match std::fs::OpenOptions::new()
+        .write(true)
+        .create_new(true)
+        .open(&probe)
+    {
+        Ok(_) => {
+            let _ = std::fs::remove_file(&probe);
+        }
+        Err(e) => anyhow::bail!(
+            "--out {}: cannot write there ({e}); choose another --out",
+            out.display()
+        ),
+    }
     let entries =
         std::fs::read_dir(out).with_context(|| format!("cannot read {}", out.display()))?;
     for entry in entries {

@@ -680,3 +680,56 @@ fn help_shows_every_default() {
         assert!(help.contains(&needle), "`{needle}` not in:\n{help}");
     }
 }
+
+#[test]
+fn a_directory_the_caller_cannot_write_is_not_replaced() {
+    use std::os::unix::fs::PermissionsExt;
+    let tmp = tempfile::tempdir().unwrap();
+    std::fs::set_permissions(tmp.path(), std::fs::Permissions::from_mode(0o777)).unwrap();
+    let ro = tmp.path().join("ro");
+    std::fs::create_dir(&ro).unwrap();
+    std::fs::set_permissions(&ro, std::fs::Permissions::from_mode(0o555)).unwrap();
+    let args = [
+        "explore",
+        "--builtin",
+        "site",
+        "--max-scans",
+        "2",
+        "--out",
+        s(&ro),
+    ];
+    let bin = assert_cmd::cargo::cargo_bin("cpsplan");
+    // As root, the run goes as `nobody` (root writes anywhere).
+    let root = std::fs::write(ro.join("probe"), b"").is_ok();
+    let out = if root {
+        std::fs::remove_file(ro.join("probe")).unwrap();
+        std::process::Command::new("setpriv")
+            .args(["--reuid=65534", "--regid=65534", "--clear-groups"])
+            .arg(&bin)
+            .args(args)
+            .output()
+    } else {
+        std::process::Command::new(&bin).args(args).output()
+    };
+    match out {
+        Ok(out) if out.status.code() != Some(126) && out.status.code() != Some(127) => {
+            let err = String::from_utf8_lossy(&out.stderr);
+            if root && err.contains("Permission denied") && !err.contains("--out") {
+                eprintln!("SKIPPED: `nobody` cannot run the test binary here: {err}");
+            } else {
+                assert_eq!(out.status.code(), Some(2), "{err}");
+                assert_eq!(err.lines().count(), 1, "{err}");
+                assert!(err.contains("cannot write there"), "{err}");
+                let meta = std::fs::metadata(&ro).unwrap();
+                assert_eq!(
+                    meta.permissions().mode() & 0o777,
+                    0o555,
+                    "the directory is kept"
+                );
+                assert_eq!(std::fs::read_dir(&ro).unwrap().count(), 0);
+            }
+        }
+        _ => eprintln!("SKIPPED: no way to run as a user who cannot write there (setpriv)"),
+    }
+    std::fs::set_permissions(&ro, std::fs::Permissions::from_mode(0o755)).unwrap();
+}
