@@ -409,6 +409,29 @@ impl Drop for ReportDir {
     }
 }
 
+/// `path` with its symbolic links and `..` resolved as far as it exists (the
+/// rest appended as given).
+pub fn real_path(path: &Path) -> PathBuf {
+    let mut missing = Vec::new();
+    let mut at = path.to_path_buf();
+    loop {
+        if let Ok(real) = std::fs::canonicalize(&at) {
+            return missing.iter().rev().fold(real, |p, part| p.join(part));
+        }
+        match (at.file_name().map(|n| n.to_os_string()), at.parent()) {
+            (Some(name), Some(parent)) => {
+                missing.push(name);
+                at = if parent.as_os_str().is_empty() {
+                    PathBuf::from(".")
+                } else {
+                    parent.to_path_buf()
+                };
+            }
+            _ => return path.to_path_buf(),
+        }
+    }
+}
+
 /// Refuses a destination that is not a directory, or a directory holding
 /// anything but report files.
 fn check_replaceable(out: &Path, ours: fn(&str) -> bool) -> Result<()> {

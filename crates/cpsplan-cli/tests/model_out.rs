@@ -145,6 +145,23 @@ fn a_bad_cloud_name_is_refused_before_the_run_and_nothing_is_written() {
     assert!(err.contains("--cloud-out") && err.contains(".las"), "{err}");
     assert_eq!(err.lines().count(), 1, "{err}");
     assert_eq!(std::fs::read_dir(tmp.path()).unwrap().count(), 0);
+    // A directory, or a file inside --out (which the report replaces whole).
+    let dir = tmp.path().join("clouds.las");
+    std::fs::create_dir(&dir).unwrap();
+    let inside = tmp.path().join("report").join("model.las");
+    for (cloud, needle) in [(&dir, "is a directory"), (&inside, "lies inside --out")] {
+        let out = cpsplan()
+            .args(["explore", "--max-scans", "2", "--out"])
+            .arg(tmp.path().join("report"))
+            .args(["--cloud-out", s(cloud)])
+            .output()
+            .unwrap();
+        assert_eq!(out.status.code(), Some(2));
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(err.contains(needle), "{err}");
+        assert_eq!(err.lines().count(), 1, "{err}");
+        assert!(!tmp.path().join("report").exists(), "nothing written");
+    }
 }
 
 #[test]

@@ -27,7 +27,7 @@ use crate::experiment::{
 use crate::formats::rosmap::{read_text, ReadLimits};
 use crate::html::{episode_page, page_title, PageRecorder};
 use crate::lock::OutLock;
-use crate::report::{write_atomic, ReportDir};
+use crate::report::{real_path, write_atomic, ReportDir};
 
 /// Options of `cpsplan experiment`.
 #[derive(Debug, Args)]
@@ -546,27 +546,4 @@ fn merge(args: &MergeArgs) -> Result<()> {
         args.out.display()
     );
     Ok(())
-}
-
-/// `path` with its symbolic links and `..` resolved as far as it exists (the
-/// rest appended as given).
-fn real_path(path: &Path) -> PathBuf {
-    let mut missing = Vec::new();
-    let mut at = path.to_path_buf();
-    loop {
-        if let Ok(real) = std::fs::canonicalize(&at) {
-            return missing.iter().rev().fold(real, |p, part| p.join(part));
-        }
-        match (at.file_name().map(|n| n.to_os_string()), at.parent()) {
-            (Some(name), Some(parent)) => {
-                missing.push(name);
-                at = if parent.as_os_str().is_empty() {
-                    PathBuf::from(".")
-                } else {
-                    parent.to_path_buf()
-                };
-            }
-            _ => return path.to_path_buf(),
-        }
-    }
 }

@@ -1,6 +1,6 @@
 //! `cpsplan explore`: one simulated episode on a map, and its report.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use anyhow::{bail, Result};
@@ -28,7 +28,7 @@ use crate::formats::mcap_out::{clock_ns, McapRecording};
 use crate::formats::rosmap::ReadLimits;
 use crate::formats::targets::read_targets;
 use crate::render::{percent, render_step, StepView};
-use crate::report::{write_atomic, write_episode_outputs, ReportDir};
+use crate::report::{real_path, write_atomic, write_episode_outputs, ReportDir};
 
 /// Options of `cpsplan explore`.
 #[derive(Debug, Args)]
@@ -309,6 +309,9 @@ pub fn build_config(args: &ExploreArgs) -> Result<Config> {
 pub fn run(args: &ExploreArgs) -> Result<()> {
     let config = build_config(args)?;
     let cloud_format = args.cloud_out.as_deref().map(ModelFormat::of).transpose()?;
+    if let Some(path) = &args.cloud_out {
+        check_cloud_out(path, &args.out)?;
+    }
     if args.field_data.is_some() && config.children.count < 2 {
         bail!(
             "--field-data: the readings fix the parent's pose from two children or more (--children {})",
@@ -638,4 +641,25 @@ pub fn coverage_warning(s: &Summary) -> Option<String> {
         "the scans cover {:.1} % of the free space connected to the start ({stop}): {why}",
         s.connected_coverage * 100.0
     ))
+}
+
+/// Refuses a `--cloud-out` that names a directory, or that lies inside
+/// `--out` (the report replaces that directory whole), before the run.
+fn check_cloud_out(path: &Path, out: &Path) -> Result<()> {
+    if path.is_dir() {
+        bail!(
+            "--cloud-out {} is a directory; name the file, e.g. {}",
+            path.display(),
+            path.join("model.las").display()
+        );
+    }
+    let (cloud, report) = (real_path(path), real_path(out));
+    if cloud.starts_with(&report) {
+        bail!(
+            "--cloud-out {} lies inside --out {}, which the report replaces whole; write it beside",
+            path.display(),
+            out.display()
+        );
+    }
+    Ok(())
 }
