@@ -490,11 +490,8 @@ fn one_writer_per_output_directory() {
 #[test]
 fn a_run_killed_before_its_experiment_file_resumes() {
     let tmp = tempfile::tempdir().unwrap();
-    let spec = write_spec(tmp.path(), SMALL);
-    let spec = spec.to_str().unwrap();
-    let out = tmp.path().join("run");
-    let o = out.to_str().unwrap();
-    run_ok(&["experiment", spec, "--out", o, "--quiet"]);
+    let (spec, out) = small_run(tmp.path());
+    let (spec, o) = (spec.to_str().unwrap(), out.to_str().unwrap());
     let whole = records(&out);
     // As if killed right after plan.json: no records, no experiment file.
     std::fs::remove_dir_all(out.join("records")).unwrap();
@@ -515,11 +512,8 @@ fn a_run_killed_before_its_experiment_file_resumes() {
 #[test]
 fn entries_not_of_the_store_are_left_alone_and_never_read() {
     let tmp = tempfile::tempdir().unwrap();
-    let spec = write_spec(tmp.path(), SMALL);
-    let spec = spec.to_str().unwrap();
-    let out = tmp.path().join("run");
-    let o = out.to_str().unwrap();
-    run_ok(&["experiment", spec, "--out", o, "--quiet"]);
+    let (spec, out) = small_run(tmp.path());
+    let (spec, o) = (spec.to_str().unwrap(), out.to_str().unwrap());
     let whole = records(&out);
     let dir = out.join("records");
     // Forged figures: a coverage of 10³⁰⁸, a scan count past the limit.

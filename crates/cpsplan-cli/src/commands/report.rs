@@ -96,7 +96,6 @@ fn is_report_file(name: &str) -> bool {
         || [".svg", ".png"].iter().any(|ext| name.ends_with(ext))
 }
 
-/// A map's name as it may stand in a file name.
 /// [`file_part`] of every map, made unique: a map whose part another map
 /// already has (`x y` and `x_y`) gets `-2`, `-3`, … in order.
 fn file_parts(maps: &[&str]) -> Vec<String> {
@@ -114,6 +113,7 @@ fn file_parts(maps: &[&str]) -> Vec<String> {
     out
 }
 
+/// A map's name as it may stand in a file name.
 fn file_part(name: &str) -> String {
     name.chars()
         .map(|c| {

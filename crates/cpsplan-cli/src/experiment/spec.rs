@@ -205,7 +205,6 @@ pub fn parse_plan(text: &str, path: &Path) -> Result<Plan, SpecError> {
     expand(file, path)
 }
 
-/// The values of one axis: the given ones, or the configuration's own (`None`).
 /// A value that `values` holds twice, if any (sorted, so that a million
 /// seeds take no longer than their sorting).
 fn twice<K: Ord>(mut values: Vec<K>) -> Option<K> {
@@ -214,6 +213,7 @@ fn twice<K: Ord>(mut values: Vec<K>) -> Option<K> {
     values.into_iter().nth(at)
 }
 
+/// The values of one axis: the given ones, or the configuration's own (`None`).
 fn axis<T: Copy>(values: &[T]) -> Vec<Option<T>> {
     if values.is_empty() {
         vec![None]
@@ -442,13 +442,12 @@ fn expand(file: ExperimentFile, path: &Path) -> Result<Plan, SpecError> {
     // Labels name the conditions of a report: where the short ones collide
     // (`a/lab.yaml` and `b/lab.yaml`, starts 2.01 and 2.04), every label
     // gives the map's whole name and the starts in full.
-    let label_of = |v: &Varies, e: &EpisodeSpec| v.label(&e.map, e.start, &e.parameters, &e.config);
     let mut labels: Vec<&String> = episodes.iter().map(|e| &e.label).collect();
     labels.sort_unstable();
     if labels.windows(2).any(|w| w[0] == w[1]) {
         varies.long = true;
         for e in &mut episodes {
-            e.label = label_of(&varies, e);
+            e.label = varies.label(&e.map, e.start, &e.parameters, &e.config);
         }
     }
     Ok(Plan {

@@ -10,11 +10,10 @@ use std::io::Cursor;
 use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result};
-
-use super::ros_out::{Outlet, RosOut};
 use cpsplan::mission::Step;
 use cpsplan::OccupancyGrid;
 
+use super::ros_out::{Outlet, RosOut};
 use crate::report::{write_temp, TempFile};
 
 pub use super::ros_out::clock_ns;

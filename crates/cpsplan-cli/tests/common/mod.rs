@@ -46,6 +46,21 @@ pub fn write_spec(dir: &Path, text: &str) -> PathBuf {
     path
 }
 
+/// [`SMALL`] written into `dir` and run whole into `dir/run`, quietly: the
+/// experiment file and the run's directory.
+pub fn small_run(dir: &Path) -> (PathBuf, PathBuf) {
+    let spec = write_spec(dir, SMALL);
+    let out = dir.join("run");
+    run_ok(&[
+        "experiment",
+        spec.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--quiet",
+    ]);
+    (spec, out)
+}
+
 /// The records of `dir`, by file name, with `wall_ms` taken out.
 pub fn records(dir: &Path) -> BTreeMap<String, Value> {
     let mut out = BTreeMap::new();
