@@ -33,6 +33,23 @@ pub fn memory_budget() -> Option<MemoryBudget> {
     })
 }
 
+/// Refuses, in one line, to read `what` when holding it is estimated to need
+/// more than [`memory_budget`]: `bytes` on disk, `factor` bytes in memory for
+/// each (text and what it is parsed into).
+pub fn check_reading(what: &str, bytes: u64, factor: f64) -> anyhow::Result<()> {
+    let needed_mb = bytes as f64 * factor / (1024.0 * 1024.0);
+    match memory_budget() {
+        Some(b) if needed_mb > b.mb => anyhow::bail!(
+            "reading {what} ({} MB on disk) is estimated to need {} MB, more than {} ({} MB)",
+            (bytes as f64 / (1024.0 * 1024.0)).ceil(),
+            needed_mb.ceil(),
+            b.source,
+            b.mb.floor()
+        ),
+        _ => Ok(()),
+    }
+}
+
 /// The texts the budget is read from.
 #[derive(Debug, Default)]
 struct Sources {

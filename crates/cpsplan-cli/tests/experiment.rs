@@ -45,11 +45,17 @@ fn every_episode_is_recorded_once_with_the_figures_explore_gives() {
         SMALL,
         "the experiment file is kept as given"
     );
+    // Compact: each parameter set's configuration once (both maps and both
+    // seeds share it), named by number in the episodes.
+    assert_eq!(plan["format"], "cpsplan-experiment-plan/2");
+    assert_eq!(plan["configs"].as_array().unwrap().len(), 2);
     for (i, r) in recs.values().enumerate() {
-        assert_eq!(
-            r["episode"], plan["episodes"][i],
-            "record {i} names its episode"
-        );
+        let mut entry = plan["episodes"][i].clone();
+        let k = entry["config"].as_u64().unwrap() as usize;
+        let mut config = plan["configs"][k].clone();
+        config["seed"] = entry["seed"].clone();
+        entry["config"] = config;
+        assert_eq!(r["episode"], entry, "record {i} names its episode");
         assert_eq!(r["outcome"]["status"], "finished");
         let scans = r["outcome"]["scans"].as_array().unwrap();
         assert_eq!(scans.len(), 4, "max_scans = 4");
@@ -594,4 +600,83 @@ fn entries_not_of_the_store_are_left_alone_and_never_read() {
         &["experiment", "merge", o, "--out", merged.to_str().unwrap()],
         "plan.json",
     );
+}
+
+#[test]
+fn a_plan_of_the_first_format_is_still_read() {
+    let tmp = tempfile::tempdir().unwrap();
+    let (spec, out) = small_run(tmp.path());
+    let whole = records(&out);
+    // The first format: each episode with its whole configuration.
+    let path = out.join("plan.json");
+    let mut plan: Value = serde_json::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap();
+    let configs = plan["configs"].as_array().unwrap().clone();
+    for e in plan["episodes"].as_array_mut().unwrap() {
+        let mut config = configs[e["config"].as_u64().unwrap() as usize].clone();
+        config["seed"] = e["seed"].clone();
+        e["config"] = config;
+    }
+    plan.as_object_mut().unwrap().remove("configs");
+    plan["format"] = "cpsplan-experiment-plan/1".into();
+    std::fs::write(&path, serde_json::to_vec_pretty(&plan).unwrap()).unwrap();
+    let (spec, o) = (spec.to_str().unwrap(), out.to_str().unwrap());
+    let stdout = run_ok(&["experiment", spec, "--out", o, "--resume"]);
+    assert!(
+        stdout.contains("0 run, 8 done before, of 8 episodes"),
+        "{stdout}"
+    );
+    assert_eq!(records(&out), whole);
+    let report = tmp.path().join("report");
+    run_ok(&["report", o, "--out", report.to_str().unwrap(), "-q"]);
+    assert!(report.join("summary.md").is_file());
+    // A configuration number beyond the list is refused in one line.
+    plan["format"] = "cpsplan-experiment-plan/2".into();
+    plan["configs"] = serde_json::json!([]);
+    plan["episodes"][3]["config"] = 0.into();
+    std::fs::write(&path, serde_json::to_vec(&plan).unwrap()).unwrap();
+    refused(
+        &["report", o, "--out", report.to_str().unwrap()],
+        "names configuration 0, but the file has 0",
+    );
+}
+
+/// Records and a plan whose size says they cannot be held under a 3 GB
+/// address-space limit (files of 900 MB, sparse: no disk is used) are refused
+/// in one line naming the estimate and the limit, before they are read, by
+/// `report`, `--resume` and `merge` alike.
+#[test]
+fn a_store_larger_than_the_memory_is_refused_before_it_is_read() {
+    let tmp = tempfile::tempdir().unwrap();
+    let (spec, out) = small_run(tmp.path());
+    let (spec, o) = (spec.to_str().unwrap(), out.to_str().unwrap());
+    let report = tmp.path().join("report");
+    let merged = tmp.path().join("merged");
+    let (r, m) = (report.to_str().unwrap(), merged.to_str().unwrap());
+    let commands: [&[&str]; 3] = [
+        &["report", o, "--out", r],
+        &["experiment", spec, "--out", o, "--resume"],
+        &["experiment", "merge", o, "--out", m],
+    ];
+    for (file, what) in [
+        ("records/000001.json", "the records of"),
+        ("plan.json", "plan.json"),
+    ] {
+        for name in ["records/000001.json", "records/000002.json", file] {
+            std::fs::File::create(out.join(name))
+                .and_then(|f| f.set_len(900 << 20))
+                .unwrap();
+        }
+        for args in commands {
+            let Some(run) = run_under_address_limit(3_000_000, args) else {
+                return;
+            };
+            let err = String::from_utf8_lossy(&run.stderr);
+            assert_eq!(run.status.code(), Some(2), "{args:?}: {err}");
+            assert_eq!(err.trim().lines().count(), 1, "{args:?}: {err}");
+            for needle in [what, "estimated to need", "address-space limit (ulimit -v)"] {
+                assert!(err.contains(needle), "{args:?}, {needle}: {err}");
+            }
+        }
+        assert!(!report.exists() && !merged.exists());
+    }
 }

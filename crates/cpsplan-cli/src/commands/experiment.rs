@@ -413,9 +413,8 @@ fn merge(args: &MergeArgs) -> Result<()> {
         }
         seen.push(real);
     }
-    let plan = serde_json::to_value(&first.file.plan)?;
     for d in &dirs[1..] {
-        if serde_json::to_value(&d.file.plan)? != plan {
+        if d.file.plan != first.file.plan {
             bail!(
                 "{} and {} hold different experiments (their {PLAN_FILE} differ): \
                  merge only the shards of one experiment file",

@@ -5,6 +5,7 @@
 
 pub mod medians;
 pub mod oracle;
+pub mod plan_file;
 pub mod record;
 pub mod spec;
 pub mod store;
@@ -13,4 +14,5 @@ pub mod text;
 
 pub use record::{EpisodeRecord, Outcome, ScanRecord};
 pub use spec::{parse_plan, read_plan, EpisodeSpec, Plan, SpecError};
-pub use store::{ExperimentDir, PlanFile, Shard};
+pub use plan_file::{PlanFile, Shard};
+pub use store::ExperimentDir;

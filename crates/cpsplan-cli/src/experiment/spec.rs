@@ -38,7 +38,7 @@ use crate::formats::rosmap::{read_text, FormatError};
 pub const MAX_EPISODES: usize = 1_000_000;
 
 /// The format name of `plan.json`.
-pub const PLAN_FORMAT: &str = "cpsplan-experiment-plan/1";
+pub const PLAN_FORMAT: &str = "cpsplan-experiment-plan/2";
 
 /// Why an experiment file could not be read.
 #[derive(Debug, thiserror::Error)]

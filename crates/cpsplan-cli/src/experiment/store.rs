@@ -5,16 +5,15 @@
 //! `episodes.csv` (one row per record).
 
 use std::collections::BTreeMap;
-use std::fmt;
 use std::path::{Path, PathBuf};
-use std::str::FromStr;
 
 use anyhow::{bail, Context, Result};
-use serde::{Deserialize, Serialize};
 
 use super::record::{episodes_csv, EpisodeRecord, RECORD_FORMAT};
-use super::spec::{Plan, PLAN_FORMAT};
+use super::plan_file::{PlanFile, Shard};
+use super::spec::Plan;
 use crate::formats::rosmap::read_text;
+use crate::memory::check_reading;
 use crate::report::write_atomic;
 
 /// The experiment file, copied.
@@ -30,60 +29,16 @@ pub const PAGES_DIR: &str = "pages";
 
 /// The largest record file read, bytes.
 const MAX_RECORD_BYTES: u64 = 1 << 30;
-/// The largest `plan.json` read, bytes (a million episodes take about 2.6 GB).
+/// The largest `plan.json` read, bytes (a million episodes take about 0.3 GB;
+/// 2.6 GB in the first format).
 const MAX_PLAN_BYTES: u64 = 4 << 30;
-
-/// The `k`-th of `n` slices of an experiment (`1 ≤ k ≤ n`): the episodes whose
-/// index leaves the remainder `k − 1` when divided by `n`.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
-pub struct Shard {
-    /// Which slice, from 1.
-    pub k: usize,
-    /// How many slices.
-    pub n: usize,
-}
-
-impl Shard {
-    /// The whole experiment.
-    pub const WHOLE: Shard = Shard { k: 1, n: 1 };
-
-    /// Whether the episode numbered `index` is in this slice.
-    pub fn holds(&self, index: usize) -> bool {
-        index % self.n == self.k - 1
-    }
-}
-
-impl fmt::Display for Shard {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "{}/{}", self.k, self.n)
-    }
-}
-
-impl FromStr for Shard {
-    type Err = String;
-
-    /// Parses `K/N` with `1 ≤ K ≤ N`.
-    fn from_str(s: &str) -> Result<Self, Self::Err> {
-        let bad = || format!("`{s}` is not K/N with 1 \u{2264} K \u{2264} N (e.g. 3/8)");
-        let (k, n) = s.split_once('/').ok_or_else(bad)?;
-        let k: usize = k.trim().parse().map_err(|_| bad())?;
-        let n: usize = n.trim().parse().map_err(|_| bad())?;
-        if k == 0 || k > n {
-            return Err(bad());
-        }
-        Ok(Shard { k, n })
-    }
-}
-
-/// `plan.json`: the plan and the shard of the directory.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct PlanFile {
-    /// Every episode of the experiment.
-    #[serde(flatten)]
-    pub plan: Plan,
-    /// The slice this directory runs; `null` after a merge (all of them).
-    pub shard: Option<Shard>,
-}
+/// Bytes in memory per byte of `plan.json` while it is read: its text, the
+/// episodes as read and the plan they become (measured: a million episodes,
+/// 0.29 GB of file, peak 1.2 GB for `report`).
+const PLAN_MEMORY_FACTOR: f64 = 5.0;
+/// Bytes in memory per byte of the record files while they are read and
+/// kept (a record's text is read and dropped; what is kept is smaller than it).
+const RECORDS_MEMORY_FACTOR: f64 = 1.5;
 
 /// An experiment directory.
 #[derive(Debug)]
@@ -151,7 +106,7 @@ impl ExperimentDir {
                 dir.file.shard.map_or("(merged)".into(), |s| s.to_string())
             );
         }
-        if serde_json::to_value(&dir.file.plan)? != serde_json::to_value(&fresh.plan)? {
+        if dir.file.plan != fresh.plan {
             bail!(
                 "--resume: the experiment in {} was planned from a different experiment file \
                  (its plan.json differs); resume with the file it was started with, or choose a new --out",
@@ -176,17 +131,13 @@ impl ExperimentDir {
                 root.display()
             );
         }
-        // A regular file only (a FIFO would block, a device never end).
+        // A regular file only (a FIFO would block, a device never end), and
+        // one that fits: the text and the plan parsed from it.
+        let bytes = std::fs::metadata(&path).map_or(0, |m| m.len());
+        check_reading(&path.display().to_string(), bytes, PLAN_MEMORY_FACTOR)?;
         let text = read_text(&path, MAX_PLAN_BYTES)?;
         let file: PlanFile = serde_json::from_str(&text)
             .with_context(|| format!("{} is not an experiment plan", path.display()))?;
-        if file.plan.format != PLAN_FORMAT {
-            bail!(
-                "{}: format `{}`, expected `{PLAN_FORMAT}`",
-                path.display(),
-                file.plan.format
-            );
-        }
         if let Some((i, e)) = file
             .plan
             .episodes
@@ -253,6 +204,18 @@ impl ExperimentDir {
             paths.push(entry.path());
         }
         paths.sort();
+        // The records are kept: refuse before reading if they cannot be.
+        let bytes: u64 = paths
+            .iter()
+            .filter_map(|p| std::fs::metadata(p).ok())
+            .filter(|m| m.is_file() && m.len() <= MAX_RECORD_BYTES)
+            .map(|m| m.len())
+            .sum();
+        check_reading(
+            &format!("the records of {}", dir.display()),
+            bytes,
+            RECORDS_MEMORY_FACTOR,
+        )?;
         for path in paths {
             let name = path
                 .file_name()
@@ -301,32 +264,7 @@ impl ExperimentDir {
             return Err("larger than any record".into());
         }
         let text = read_text(path, MAX_RECORD_BYTES).map_err(|e| e.to_string())?;
-        let record: EpisodeRecord =
-            serde_json::from_str(&text).map_err(|e| format!("not a whole record ({e})"))?;
-        if record.format != RECORD_FORMAT {
-            return Err(format!(
-                "format `{}`, expected `{RECORD_FORMAT}`",
-                record.format
-            ));
-        }
-        let Some(spec) = self.file.plan.episodes.get(index) else {
-            return Err(format!(
-                "episode {index}, but the plan has {}",
-                self.file.plan.episodes.len()
-            ));
-        };
-        let same = record.experiment == self.file.plan.name
-            && serde_json::to_value(&record.episode).ok() == serde_json::to_value(spec).ok();
-        if !same {
-            return Err(format!(
-                "the record is of another episode than plan.json's {index} ({})",
-                spec.label
-            ));
-        }
-        record
-            .plausible()
-            .map_err(|why| format!("not a plausible record: {why}"))?;
-        Ok(record)
+        parse_record(&text, &self.file.plan, index)
     }
 
     /// Writes `episodes.csv` of `records`.
@@ -336,6 +274,36 @@ impl ExperimentDir {
     ) -> Result<()> {
         write_atomic(&self.root.join(CSV_FILE), &episodes_csv(records)?)
     }
+}
+
+/// The record that `text` holds, if it is a whole, plausible record of
+/// episode `index` of `plan` (the check `report`, `merge` and `--resume`
+/// make of every record file).
+pub fn parse_record(text: &str, plan: &Plan, index: usize) -> Result<EpisodeRecord, String> {
+    let record: EpisodeRecord =
+        serde_json::from_str(text).map_err(|e| format!("not a whole record ({e})"))?;
+    if record.format != RECORD_FORMAT {
+        return Err(format!(
+            "format `{}`, expected `{RECORD_FORMAT}`",
+            record.format
+        ));
+    }
+    let Some(spec) = plan.episodes.get(index) else {
+        return Err(format!(
+            "episode {index}, but the plan has {}",
+            plan.episodes.len()
+        ));
+    };
+    if record.experiment != plan.name || record.episode != *spec {
+        return Err(format!(
+            "the record is of another episode than plan.json's {index} ({})",
+            spec.label
+        ));
+    }
+    record
+        .plausible()
+        .map_err(|why| format!("not a plausible record: {why}"))?;
+    Ok(record)
 }
 
 /// Refuses an `--out` that exists and is not an empty directory; `hint` says

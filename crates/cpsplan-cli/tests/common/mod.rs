@@ -102,3 +102,21 @@ pub fn refused(args: &[&str], needle: &str) {
         "cpsplan {args:?}: `{needle}` not in {stderr}"
     );
 }
+
+/// `cpsplan ARGS` run under an address-space limit of `kb` kilobytes
+/// (`ulimit -v`); `None`, said on stderr, where it cannot be set.
+pub fn run_under_address_limit(kb: u64, args: &[&str]) -> Option<std::process::Output> {
+    if !Path::new("/proc/self/limits").is_file() || !Path::new("/bin/sh").is_file() {
+        eprintln!("SKIP: no /proc/self/limits or /bin/sh to set ulimit -v with");
+        return None;
+    }
+    let script = format!("ulimit -v {kb} && exec \"$0\" \"$@\"");
+    let out = std::process::Command::new("/bin/sh")
+        .arg("-c")
+        .arg(script)
+        .arg(env!("CARGO_BIN_EXE_cpsplan"))
+        .args(args)
+        .output()
+        .expect("/bin/sh runs");
+    Some(out)
+}
