@@ -7,3 +7,4 @@ pub mod cloud_grid;
 pub mod config_parse;
 pub mod map_load;
 pub mod plan_inputs;
+pub mod record_load;

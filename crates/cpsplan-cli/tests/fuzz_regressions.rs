@@ -12,6 +12,8 @@ mod config_parse;
 mod map_load;
 #[path = "../../../fuzz/src/plan_inputs.rs"]
 mod plan_inputs;
+#[path = "../../../fuzz/src/record_load.rs"]
+mod record_load;
 
 /// The files of `fuzz/<kind>/<target>/`, sorted.
 fn inputs(kind: &str, target: &str) -> Vec<PathBuf> {
@@ -184,4 +186,37 @@ fn write_cloud_grid_seeds() {
             std::fs::write(dir.join(format!("{name}-{k}")), seed).unwrap();
         }
     }
+}
+
+#[test]
+fn record_load_inputs_replay_and_the_real_records_are_accepted() {
+    use cpsplan_cli::experiment::store::parse_record;
+    let plan = cpsplan_cli::experiment::parse_plan(
+        record_load::EXPERIMENT,
+        std::path::Path::new("fuzz.toml"),
+    )
+    .unwrap();
+    let seeds = inputs("seeds", "record_load");
+    assert_eq!(
+        seeds.len(),
+        plan.episodes.len(),
+        "a real record per episode"
+    );
+    for file in &seeds {
+        let bytes = std::fs::read(file).unwrap();
+        let text = std::str::from_utf8(&bytes[2..]).unwrap();
+        let index = bytes[0] as usize;
+        // Accepted as the episode it names, refused as any other: the
+        // target reaches the report, and the plan is the one the seeds are of.
+        for claimed in 0..plan.episodes.len() {
+            let got = parse_record(text, &plan, claimed);
+            assert_eq!(
+                got.is_ok(),
+                claimed == index,
+                "{}: {claimed}",
+                file.display()
+            );
+        }
+    }
+    assert_eq!(replay("record_load", record_load::run), seeds.len());
 }

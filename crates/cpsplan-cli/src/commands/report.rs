@@ -20,7 +20,7 @@ use crate::experiment::summary::{
     headline, html_of_markdown, html_table, markdown_table, Condition, Metric,
 };
 use crate::experiment::text::md_text;
-use crate::experiment::{EpisodeRecord, ExperimentDir, Outcome};
+use crate::experiment::{EpisodeRecord, ExperimentDir, Outcome, Plan, Shard};
 use crate::html::episodes::{player_section, ShownEpisode};
 use crate::html::{escape, page_data, page_title};
 use crate::lock::OutLock;
@@ -316,22 +316,23 @@ fn shown_episodes(
     Ok((out, note.to_string()))
 }
 
-/// Runs `cpsplan report`.
-pub fn run(args: &ReportArgs) -> Result<()> {
-    let dir = ExperimentDir::open(&args.dir)?;
-    let records = dir.records()?;
-    for (path, why) in records.damaged.iter().chain(&records.foreign) {
-        eprintln!("warning: {} left out: {why}", path.display());
-    }
-    let records: Vec<EpisodeRecord> = records.valid.into_values().map(|(_, r)| r).collect();
-    if records.is_empty() {
-        bail!("{} holds no finished record yet", args.dir.display());
-    }
-    let plan = &dir.file.plan;
-    let out_dir = args.out.clone().unwrap_or_else(|| args.dir.join("report"));
-    let _lock = OutLock::acquire(&out_dir)?;
-    let report = ReportDir::create_for(&out_dir, is_report_file)?;
-    let all = conditions(&records);
+/// The report of an experiment's records without its episode pages: what
+/// `cpsplan report` writes, in memory.
+pub struct Rendered {
+    /// `summary.md`, whole.
+    pub md: String,
+    /// `report.html` up to its episodes' section (no closing tags).
+    pub html: String,
+    /// The charts: file name and bytes (an SVG and a PNG each).
+    pub files: Vec<(PathBuf, Vec<u8>)>,
+    /// `summary.csv`.
+    pub csv: Vec<u8>,
+}
+
+/// Renders the report of `records`, finished episodes of `plan` (the slice
+/// `shard` of it), grouped into conditions.
+pub fn render(plan: &Plan, shard: Option<Shard>, records: &[EpisodeRecord]) -> Result<Rendered> {
+    let all = conditions(records);
     let mut maps: Vec<&str> = Vec::new();
     for c in &all {
         if !maps.contains(&c.map.as_str()) {
@@ -345,7 +346,7 @@ pub fn run(args: &ReportArgs) -> Result<()> {
         md_text(&plan.description),
         records.len(),
         plan.episodes.len(),
-        match dir.file.shard {
+        match shard {
             Some(s) if s.n > 1 => format!(" (shard {s})"),
             _ => String::new(),
         }
@@ -467,6 +468,37 @@ pub fn run(args: &ReportArgs) -> Result<()> {
         }
         html.push_str("</div>\n");
     }
+    let csv = csv_table(&rows)?;
+    Ok(Rendered {
+        md,
+        html,
+        files,
+        csv,
+    })
+}
+
+/// Runs `cpsplan report`.
+pub fn run(args: &ReportArgs) -> Result<()> {
+    let dir = ExperimentDir::open(&args.dir)?;
+    let records = dir.records()?;
+    for (path, why) in records.damaged.iter().chain(&records.foreign) {
+        eprintln!("warning: {} left out: {why}", path.display());
+    }
+    let records: Vec<EpisodeRecord> = records.valid.into_values().map(|(_, r)| r).collect();
+    if records.is_empty() {
+        bail!("{} holds no finished record yet", args.dir.display());
+    }
+    let plan = &dir.file.plan;
+    let out_dir = args.out.clone().unwrap_or_else(|| args.dir.join("report"));
+    let _lock = OutLock::acquire(&out_dir)?;
+    let report = ReportDir::create_for(&out_dir, is_report_file)?;
+    let Rendered {
+        md,
+        mut html,
+        files,
+        csv,
+    } = render(plan, dir.file.shard, &records)?;
+    let all = conditions(&records);
     let (shown, note) = shown_episodes(&dir, &all, args.all_episodes)?;
     if shown.is_empty() {
         html.push_str(
@@ -482,7 +514,7 @@ pub fn run(args: &ReportArgs) -> Result<()> {
     html.push_str("</body>\n</html>\n");
     write_atomic(&report.path().join("summary.md"), md.as_bytes())?;
     write_atomic(&report.path().join("report.html"), html.as_bytes())?;
-    write_atomic(&report.path().join("summary.csv"), &csv_table(&rows)?)?;
+    write_atomic(&report.path().join("summary.csv"), &csv)?;
     report.commit()?;
     if !args.quiet {
         println!(

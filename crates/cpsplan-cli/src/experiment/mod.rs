@@ -12,7 +12,7 @@ pub mod store;
 pub mod summary;
 pub mod text;
 
+pub use plan_file::{PlanFile, Shard};
 pub use record::{EpisodeRecord, Outcome, ScanRecord};
 pub use spec::{parse_plan, read_plan, EpisodeSpec, Plan, SpecError};
-pub use plan_file::{PlanFile, Shard};
 pub use store::ExperimentDir;

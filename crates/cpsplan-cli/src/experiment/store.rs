@@ -9,8 +9,8 @@ use std::path::{Path, PathBuf};
 
 use anyhow::{bail, Context, Result};
 
-use super::record::{episodes_csv, EpisodeRecord, RECORD_FORMAT};
 use super::plan_file::{PlanFile, Shard};
+use super::record::{episodes_csv, EpisodeRecord, RECORD_FORMAT};
 use super::spec::Plan;
 use crate::formats::rosmap::read_text;
 use crate::memory::check_reading;
