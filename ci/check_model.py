@@ -88,7 +88,7 @@ def main():
     ply = read_ply(ply_path)["vertex"]
     if len(ply) != n:
         fail(f"PLY holds {len(ply)} points, the LAS {n}")
-    stations = read_ply(Path(ply_path).with_name(Path(ply_path).stem + "-stations.ply"))
+    stations = read_ply(Path(ply_path).with_name(Path(ply_path).name + "-stations.ply"))
     if len(stations["vertex"]) != scans or len(stations["edge"]) != scans - 1:
         fail("the stations PLY does not hold one vertex per scan and one edge between each")
 

@@ -88,7 +88,7 @@ fn the_default_episode_writes_a_las_and_a_ply_on_the_walls() {
     let ply = read_cloud(&ply_path, &CloudReadOptions::default(), &mut |_, _| {}).unwrap();
     assert_eq!(ply.points.len(), points);
     let stations = read_cloud(
-        &tmp.path().join("model-stations.ply"),
+        &tmp.path().join("model.ply-stations.ply"),
         &CloudReadOptions::default(),
         &mut |_, _| {},
     )
@@ -207,5 +207,85 @@ fn a_model_beyond_the_point_limit_is_left_out_of_the_report_or_refused() {
         .unwrap();
     assert_eq!(run.status.code(), Some(2));
     assert!(!other.exists() && !cloud.exists());
-    assert!(!tmp.path().join("model-stations.ply").exists());
+    assert!(!tmp.path().join("model.laz-stations.ply").exists());
+}
+
+/// An existing cloud or stations file is refused before the run without
+/// `--force` and replaced with it; `x.laz` and `x.ply` keep stations of their
+/// own.
+#[test]
+fn an_existing_cloud_is_replaced_only_with_force() {
+    let tmp = tempfile::tempdir().unwrap();
+    let explore = |cloud: &Path, force: bool| {
+        let mut c = cpsplan();
+        c.args(["explore", "-q", "--max-scans", "2", "--out"])
+            .arg(tmp.path().join("report"))
+            .args(["--cloud-out", s(cloud)]);
+        if force {
+            c.arg("--force");
+        }
+        c.output().unwrap()
+    };
+    let laz = tmp.path().join("x.LAZ");
+    let ply = tmp.path().join("x.Ply");
+    std::fs::write(&laz, b"keep me").unwrap();
+    let run = explore(&laz, false);
+    assert_eq!(run.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&run.stderr);
+    assert!(err.contains("already exists") && err.contains("--force"), "{err}");
+    assert_eq!(err.lines().count(), 1, "{err}");
+    assert_eq!(std::fs::read(&laz).unwrap(), b"keep me");
+    assert!(!tmp.path().join("report").exists(), "nothing written");
+    // Its stations file alone blocks it too.
+    std::fs::remove_file(&laz).unwrap();
+    std::fs::write(tmp.path().join("x.LAZ-stations.ply"), b"keep me").unwrap();
+    let run = explore(&laz, false);
+    assert_eq!(run.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&run.stderr).contains("x.LAZ-stations.ply"));
+    assert!(!laz.exists());
+    // With --force both are replaced; the PLY beside keeps its own stations.
+    assert!(explore(&laz, true).status.success());
+    std::fs::remove_dir_all(tmp.path().join("report")).unwrap();
+    assert!(explore(&ply, false).status.success());
+    for (cloud, stations) in [(&laz, "x.LAZ-stations.ply"), (&ply, "x.Ply-stations.ply")] {
+        let header = std::fs::read(cloud).unwrap();
+        assert_ne!(header, b"keep me");
+        let stations = std::fs::read(tmp.path().join(stations)).unwrap();
+        assert!(stations.starts_with(b"ply"), "{cloud:?}");
+    }
+}
+
+/// `--cloud-out` whose points cannot be held (10 m walls sampled every
+/// millimetre) under an 8 GB address-space limit: refused in one line with
+/// the estimate, before the first point is made, with nothing left behind.
+#[test]
+fn a_model_larger_than_the_memory_is_refused_before_it_is_made() {
+    let tmp = tempfile::tempdir().unwrap();
+    let (report, cloud) = (tmp.path().join("report"), tmp.path().join("m.las"));
+    let args = [
+        "explore",
+        "--builtin",
+        "site",
+        "--max-scans",
+        "20",
+        "--cloud-out",
+        s(&cloud),
+        "--wall-height",
+        "10",
+        "--vertical-step",
+        "0.001",
+        "--out",
+        s(&report),
+        "-q",
+    ];
+    let Some(run) = common::run_under_address_limit(8 << 20, &args) else {
+        return;
+    };
+    let err = String::from_utf8_lossy(&run.stderr);
+    assert_eq!(run.status.code(), Some(2), "{err}");
+    assert_eq!(err.lines().count(), 1, "{err}");
+    for needle in ["--cloud-out", "points is estimated to need", "address-space limit"] {
+        assert!(err.contains(needle), "{needle}: {err}");
+    }
+    assert_eq!(std::fs::read_dir(tmp.path()).unwrap().count(), 0, "nothing left");
 }

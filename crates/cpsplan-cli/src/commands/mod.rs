@@ -73,6 +73,28 @@ pub(crate) fn check_memory(truth: &OccupancyGrid, config: &Config) -> Result<()>
         .map_err(|e| anyhow!(e))
 }
 
+/// Refuses, in one line, `what` estimated to need `needed_mb` when that is
+/// more than `limits.max_memory_mb` or, without that limit, the memory the
+/// process may use; `hint` says what to change.
+pub(crate) fn check_memory_of(what: &str, needed_mb: f64, config: &Config, hint: &str) -> Result<()> {
+    let (limit, source) = if config.limits.max_memory_mb > 0.0 {
+        (config.limits.max_memory_mb, "`limits.max_memory_mb`")
+    } else {
+        match memory_budget() {
+            Some(b) => (b.mb, b.source),
+            None => return Ok(()),
+        }
+    };
+    if needed_mb > limit {
+        bail!(
+            "{what} is estimated to need {} MB, more than {source} ({} MB); {hint}",
+            needed_mb.ceil(),
+            limit.floor()
+        );
+    }
+    Ok(())
+}
+
 /// Loads the ground truth at the planning resolution from `map`, or the built-in
 /// map (the default one without either), with the start: `start`, the built-in
 /// map's own, or the map's default start.

@@ -152,6 +152,25 @@ pub fn build_model_in(
     })
 }
 
+/// How many points the registered model of `episode` holds: every wall cell
+/// each scan sees, sampled `model.wall_height / model.vertical_step` times up
+/// the wall (known before any point is made, to check the memory it needs).
+pub fn model_point_count(truth: &OccupancyGrid, episode: &Episode, config: &Config) -> u64 {
+    let range = config.range_cells();
+    let rows = wall_rows(config) as u64;
+    episode
+        .steps
+        .iter()
+        .map(|s| seen_walls(truth, s.cell, range).len() as u64 * rows)
+        .sum()
+}
+
+/// Points of one wall column.
+fn wall_rows(config: &Config) -> usize {
+    let m = &config.model;
+    ((m.wall_height / m.vertical_step).round() as usize).max(1)
+}
+
 /// How the points of every scan are sampled, and the wall cells each scan of
 /// `episode` sees; refused when the model would exceed the points limit.
 fn scans_of(
@@ -160,7 +179,7 @@ fn scans_of(
     config: &Config,
 ) -> Result<(Sampling, Vec<Vec<usize>>), ModelError> {
     let m = &config.model;
-    let rows = ((m.wall_height / m.vertical_step).round() as usize).max(1);
+    let rows = wall_rows(config);
     let instrument = Instrument::from_config(&config.instrument);
     let sampling = Sampling {
         rows,

@@ -3,11 +3,11 @@
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use anyhow::{bail, Result};
+use anyhow::{anyhow, bail, Result};
 use clap::{Args, ValueEnum};
 use cpsplan::config::{ChildStrategy, InstrumentModel, Planner, Preset, Scoring, TargetPlacement};
 use cpsplan::mission::{Summary, TargetOrigin, START_REGION_SHARE};
-use cpsplan::model::{build_model, build_model_in, Registration};
+use cpsplan::model::{build_model, build_model_in, model_point_count, Registration};
 use cpsplan::world::builtin::BuiltinMap;
 use cpsplan::{run_episode_with, Config, Point, StopReason};
 use indicatif::{ProgressBar, ProgressStyle};
@@ -19,7 +19,7 @@ pub use outputs::{
     readings_file_name, scan_file_name, stations_path, ModelFormat, FIELD_CONFIG, FIELD_JSON,
 };
 
-use super::{check_memory, load_truth, read_config, validate};
+use super::{check_memory, check_memory_of, load_truth, read_config, validate};
 use crate::args::{
     defaults, parse_count, parse_instrument, parse_planner, parse_point, parse_preset, parse_real,
     parse_scan_number, parse_seed, parse_strategy, scoring_name, with_default,
@@ -29,6 +29,11 @@ use crate::formats::rosmap::ReadLimits;
 use crate::formats::targets::read_targets;
 use crate::render::{percent, render_step, StepView};
 use crate::report::{real_path, write_atomic, write_episode_outputs, ReportDir};
+
+/// Bytes a point of `--cloud-out`'s model takes while it is written: the
+/// point (32), its LAS record in a buffer that may double (2 × 34) and its
+/// distance to the walls (4).
+const CLOUD_BYTES_PER_POINT: f64 = 104.0;
 
 /// Options of `cpsplan explore`.
 #[derive(Debug, Args)]
@@ -136,9 +141,13 @@ pub struct ExploreArgs {
     pub html: bool,
     /// Write the registered 3D model: every scan's points in the pose the CPS
     /// estimated (.las, .laz or .ply), with its stations beside it as
-    /// NAME-stations.ply.
+    /// FILE-stations.ply (e.g. model.laz-stations.ply).
     #[arg(long, value_name = "FILE")]
     pub cloud_out: Option<PathBuf>,
+    /// Replace an existing --cloud-out file and its stations file (without
+    /// it, either existing is refused before the run).
+    #[arg(long, requires = "cloud_out")]
+    pub force: bool,
     /// Write what a real team would have recorded: per scan, scan-NNNN.ply
     /// (the cloud in the scanner's own frame, with range noise) and
     /// readings-NNNN.csv (every total-station reading since the scan before,
@@ -310,7 +319,7 @@ pub fn run(args: &ExploreArgs) -> Result<()> {
     let config = build_config(args)?;
     let cloud_format = args.cloud_out.as_deref().map(ModelFormat::of).transpose()?;
     if let Some(path) = &args.cloud_out {
-        check_cloud_out(path, &args.out)?;
+        check_cloud_out(path, &args.out, args.force)?;
     }
     if args.field_data.is_some() && config.children.count < 2 {
         bail!(
@@ -371,6 +380,22 @@ pub fn run(args: &ExploreArgs) -> Result<()> {
     }
     mcap.check()?;
     let mut points = Vec::new();
+    if cloud_format.is_some() {
+        // The points, their encoding and their distances to the walls, known
+        // before the first is made.
+        let count = model_point_count(&truth, &episode, &config);
+        if count <= config.limits.max_cloud_points as u64 {
+            check_memory_of(
+                &format!("--cloud-out: the 3D model of {count} points"),
+                count as f64 * CLOUD_BYTES_PER_POINT / (1024.0 * 1024.0),
+                &config,
+                "raise `model.vertical_step`, lower `model.wall_height` or set `limits.max_memory_mb`",
+            )?;
+            points
+                .try_reserve_exact(usize::try_from(count).unwrap_or(usize::MAX))
+                .map_err(|_| anyhow!("--cloud-out: no memory for the {count} points of the 3D model"))?;
+        }
+    }
     let mut model_warning = None;
     let model = match build_model(&truth, &episode, &config, |k, p| {
         if cloud_format.is_some() {
@@ -643,9 +668,10 @@ pub fn coverage_warning(s: &Summary) -> Option<String> {
     ))
 }
 
-/// Refuses a `--cloud-out` that names a directory, or that lies inside
-/// `--out` (the report replaces that directory whole), before the run.
-fn check_cloud_out(path: &Path, out: &Path) -> Result<()> {
+/// Refuses a `--cloud-out` that names a directory, that lies inside `--out`
+/// (the report replaces that directory whole) or, without `--force`, whose
+/// file or stations file exists, before the run.
+fn check_cloud_out(path: &Path, out: &Path, force: bool) -> Result<()> {
     if path.is_dir() {
         bail!(
             "--cloud-out {} is a directory; name the file, e.g. {}",
@@ -660,6 +686,21 @@ fn check_cloud_out(path: &Path, out: &Path) -> Result<()> {
             path.display(),
             out.display()
         );
+    }
+    let stations = stations_path(path);
+    for file in [path, stations.as_path()] {
+        match std::fs::symlink_metadata(file) {
+            Ok(m) if m.is_dir() => bail!(
+                "--cloud-out: {} is a directory, which the model's files cannot replace",
+                file.display()
+            ),
+            Ok(_) if !force => bail!(
+                "--cloud-out: {} already exists; --force replaces it (and {})",
+                file.display(),
+                if file == path { stations.display() } else { path.display() }
+            ),
+            _ => {}
+        }
     }
     Ok(())
 }

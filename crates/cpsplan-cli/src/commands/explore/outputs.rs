@@ -161,13 +161,15 @@ impl ModelFormat {
     }
 }
 
-/// Where the stations of the cloud at `path` go: `NAME-stations.ply` beside it.
+/// Where the stations of the cloud at `path` go: `FILE-stations.ply` beside
+/// it, `FILE` the cloud's whole file name (so `x.laz` and `x.ply` keep
+/// stations of their own).
 pub fn stations_path(path: &Path) -> PathBuf {
-    let stem = path
-        .file_stem()
+    let name = path
+        .file_name()
         .map(|s| s.to_string_lossy().into_owned())
         .unwrap_or_default();
-    path.with_file_name(format!("{stem}-stations.ply"))
+    path.with_file_name(format!("{name}-stations.ply"))
 }
 
 /// Encodes the model's points and stations into temporary files beside `path`.
