@@ -232,7 +232,10 @@ fn an_existing_cloud_is_replaced_only_with_force() {
     let run = explore(&laz, false);
     assert_eq!(run.status.code(), Some(2));
     let err = String::from_utf8_lossy(&run.stderr);
-    assert!(err.contains("already exists") && err.contains("--force"), "{err}");
+    assert!(
+        err.contains("already exists") && err.contains("--force"),
+        "{err}"
+    );
     assert_eq!(err.lines().count(), 1, "{err}");
     assert_eq!(std::fs::read(&laz).unwrap(), b"keep me");
     assert!(!tmp.path().join("report").exists(), "nothing written");
@@ -284,8 +287,16 @@ fn a_model_larger_than_the_memory_is_refused_before_it_is_made() {
     let err = String::from_utf8_lossy(&run.stderr);
     assert_eq!(run.status.code(), Some(2), "{err}");
     assert_eq!(err.lines().count(), 1, "{err}");
-    for needle in ["--cloud-out", "points is estimated to need", "address-space limit"] {
+    for needle in [
+        "--cloud-out",
+        "points is estimated to need",
+        "address-space limit",
+    ] {
         assert!(err.contains(needle), "{needle}: {err}");
     }
-    assert_eq!(std::fs::read_dir(tmp.path()).unwrap().count(), 0, "nothing left");
+    assert_eq!(
+        std::fs::read_dir(tmp.path()).unwrap().count(),
+        0,
+        "nothing left"
+    );
 }

@@ -29,8 +29,14 @@ fn rooms(n: usize) -> OccupancyGrid {
 fn bound(truth: &OccupancyGrid, range: f64) -> KnownMapBound {
     let mut config = Config::default();
     config.scanner.range = range;
-    known_map_bound(truth, Point::new(1.0, 1.0), &config, BoundParams::default())
-        .expect("the bound is computed")
+    known_map_bound(
+        truth,
+        Point::new(1.0, 1.0),
+        &config,
+        BoundParams::default(),
+        None,
+    )
+    .expect("the bound is computed")
 }
 
 #[test]
@@ -64,8 +70,14 @@ fn an_open_room_in_range_needs_one_station() {
 fn every_planner_against_the_bound_on_the_site() {
     let truth = BuiltinMap::Site.generate(0);
     let start = BuiltinMap::Site.default_start();
-    let b = known_map_bound(&truth, start, &Config::default(), BoundParams::default())
-        .expect("the site's bound");
+    let b = known_map_bound(
+        &truth,
+        start,
+        &Config::default(),
+        BoundParams::default(),
+        None,
+    )
+    .expect("the site's bound");
     let g99 = b.level(0.99).map(|l| l.greedy_stations).unwrap_or(0);
     assert!(g99 >= 1);
     for planner in Planner::ALL {
@@ -151,4 +163,56 @@ fn the_paper_stop_rule_is_kept_behind_its_settings() {
     for s in &old.steps[1..] {
         assert!(s.expected_s_cells.unwrap_or(0) >= paper.parent.min_gain_cells);
     }
+}
+
+/// Spacings outside one cell to the map's longer side are refused with that
+/// range; a bound whose views exceed `limits.max_memory_mb` is refused with the
+/// estimate before the views are made, and the same bound within the limit runs.
+#[test]
+fn spacings_out_of_range_and_views_beyond_the_memory_are_refused() {
+    use cpsplan::bound::BoundError;
+    let truth = rooms(1); // 4.2 m × 6.2 m at 0.1 m
+    let start = Point::new(1.0, 1.0);
+    let config = Config::default();
+    for bad in [0.05, 6.3, 0.0, -1.0, f64::NAN, 1e9] {
+        let params = BoundParams {
+            spacing_m: Some(bad),
+            ..BoundParams::default()
+        };
+        match known_map_bound(&truth, start, &config, params, None) {
+            Err(e @ BoundError::Spacing { .. }) => {
+                let text = e.to_string();
+                assert!(
+                    text.contains("from 0.1 m (one cell) to 6.2 m"),
+                    "{bad}: {text}"
+                );
+            }
+            other => panic!("--spacing {bad}: {other:?}"),
+        }
+    }
+    // Every cell a station: some 1,700 stations seeing some 1,000 targets
+    // each, about 13 MB of views; the maps take 0.08 MB.
+    let every_cell = BoundParams {
+        spacing_m: Some(0.1),
+        ..BoundParams::default()
+    };
+    let mut tight = config.clone();
+    tight.limits.max_memory_mb = 1.0;
+    match known_map_bound(&truth, start, &tight, every_cell, None) {
+        Err(e @ BoundError::Memory { .. }) => {
+            let text = e.to_string();
+            assert!(text.contains("views of"), "{text}");
+            assert!(text.contains("`limits.max_memory_mb` (1 MB)"), "{text}");
+        }
+        other => panic!("{other:?}"),
+    }
+    // What the caller says the machine has counts the same way.
+    match known_map_bound(&truth, start, &config, every_cell, Some((1.0, "test"))) {
+        Err(BoundError::Memory { limit_by, .. }) => assert_eq!(limit_by, "test"),
+        other => panic!("{other:?}"),
+    }
+    let b = known_map_bound(&truth, start, &config, every_cell, Some((100.0, "test")))
+        .expect("within 100 MB");
+    assert_eq!(b.spacing_m, 0.1);
+    assert!(b.lattice_stations > 1000, "{}", b.lattice_stations);
 }

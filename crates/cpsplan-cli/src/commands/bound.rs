@@ -13,8 +13,9 @@ use serde::Serialize;
 
 use super::{load_truth, read_config, validate};
 use crate::args::{defaults, parse_point, parse_real, with_default};
+use crate::memory::memory_budget;
 use crate::render::render_bound;
-use crate::report::{MapSource, ReportDir};
+use crate::report::{write_atomic, MapSource, ReportDir};
 
 /// Options of `cpsplan bound`.
 #[derive(Debug, Args)]
@@ -99,10 +100,12 @@ pub fn run(args: &BoundArgs) -> Result<()> {
         target_spacing_m: args.target_spacing,
     };
     let t0 = Instant::now();
-    let bound = known_map_bound(&truth, start, &config, params).map_err(|e| match e {
-        BoundError::Start(e) => anyhow!("--start: {e}"),
-        e => anyhow!(e),
-    })?;
+    let available = memory_budget().map(|b| (b.mb, b.source));
+    let bound =
+        known_map_bound(&truth, start, &config, params, available).map_err(|e| match e {
+            BoundError::Start(e) => anyhow!("--start: {e}"),
+            e => anyhow!(e),
+        })?;
     let wall_ms = t0.elapsed().as_secs_f64() * 1e3;
     let label = source.label();
     let json = serde_json::to_vec_pretty(&BoundReport {
@@ -113,10 +116,10 @@ pub fn run(args: &BoundArgs) -> Result<()> {
         wall_ms,
         bound: &bound,
     })?;
-    std::fs::write(report.path().join("bound.json"), json)?;
+    write_atomic(&report.path().join("bound.json"), &json)?;
     let png = render_bound(&truth, &bound, &format!("cpsplan bound \u{2014} {label}"))
         .map_err(|e| anyhow!("cannot draw bound.png: {e}"))?;
-    std::fs::write(report.path().join("bound.png"), png)?;
+    write_atomic(&report.path().join("bound.png"), &png)?;
     report.commit()?;
     if !args.quiet {
         println!(

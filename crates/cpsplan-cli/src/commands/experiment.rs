@@ -27,6 +27,7 @@ use crate::experiment::{
 use crate::formats::rosmap::{read_text, ReadLimits};
 use crate::html::{episode_page, page_title, PageRecorder};
 use crate::lock::OutLock;
+use crate::memory::memory_budget;
 use crate::report::{real_path, write_atomic, ReportDir};
 
 /// Options of `cpsplan experiment`.
@@ -332,14 +333,15 @@ impl Bounds {
             Ok(mut m) => m.entry(key).or_default().clone(),
             Err(_) => Arc::default(),
         };
-        cell.get_or_init(
-            || match known_map_bound(truth, start, c, BoundParams::default()) {
+        cell.get_or_init(|| {
+            let available = memory_budget().map(|b| (b.mb, b.source));
+            match known_map_bound(truth, start, c, BoundParams::default(), available) {
                 Ok(b) => BoundRecord::of(&b),
                 Err(e) => BoundRecord::Failed {
                     error: e.to_string(),
                 },
-            },
-        )
+            }
+        })
         .clone()
     }
 }

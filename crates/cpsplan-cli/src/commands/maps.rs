@@ -5,12 +5,11 @@ use std::path::{Path, PathBuf};
 use anyhow::{Context, Result};
 use clap::Args;
 use cpsplan::world::builtin::BuiltinMap;
-use cpsplan::OccupancyGrid;
 
 use crate::args::parse_seed;
-use crate::formats::rosmap::save_map;
+use crate::formats::rosmap::encode_map;
 use crate::render::render_map;
-use crate::report::write_atomic;
+use crate::report::{write_temp, TempFile};
 
 /// Options of `cpsplan maps`.
 #[derive(Debug, Args)]
@@ -39,27 +38,50 @@ pub fn run(args: &MapsArgs) -> Result<()> {
             }
         }
         Some(dir) => {
+            let existed = dir.is_dir();
             std::fs::create_dir_all(dir)
                 .with_context(|| format!("cannot create directory {}", dir.display()))?;
-            for map in BuiltinMap::ALL {
-                let grid = map.generate(args.seed);
-                export_map(&grid, dir, map.name(), args.seed)?;
-                println!(
-                    "wrote {}",
-                    dir.join(format!("{}.yaml", map.name())).display()
-                );
+            let written = export_all(dir, args.seed);
+            if written.is_err() && !existed {
+                // Only if nothing is in it: a directory we made, left empty.
+                let _ = std::fs::remove_dir(dir);
+            }
+            for path in written? {
+                println!("wrote {}", path.display());
             }
         }
     }
     Ok(())
 }
 
-fn export_map(grid: &OccupancyGrid, dir: &Path, name: &str, seed: u64) -> Result<()> {
-    save_map(grid, &dir.join(format!("{name}.yaml")))?;
-    let png = render_map(
-        grid,
-        &format!("cpsplan built-in map `{name}` (seed {seed})"),
-    )?;
-    write_atomic(&dir.join(format!("{name}.png")), &png)?;
-    Ok(())
+/// Writes every built-in map into `dir`, all or nothing: each file goes to a
+/// temporary name first (a full disk removes them all), then every one is
+/// renamed into place. Returns the YAML files.
+fn export_all(dir: &Path, seed: u64) -> Result<Vec<PathBuf>> {
+    let mut files: Vec<(PathBuf, TempFile)> = Vec::new();
+    let mut yamls = Vec::new();
+    for map in BuiltinMap::ALL {
+        let name = map.name();
+        let grid = map.generate(seed);
+        let yaml_path = dir.join(format!("{name}.yaml"));
+        let encoded = encode_map(&grid, &yaml_path, &[])?;
+        let png = render_map(
+            &grid,
+            &format!("cpsplan built-in map `{name}` (seed {seed})"),
+        )?;
+        let png_path = dir.join(format!("{name}.png"));
+        for (path, bytes) in [
+            (encoded.image_path, encoded.pgm),
+            (yaml_path.clone(), encoded.yaml.into_bytes()),
+            (png_path, png),
+        ] {
+            let tmp = write_temp(&path, &bytes)?;
+            files.push((path, tmp));
+        }
+        yamls.push(yaml_path);
+    }
+    for (path, tmp) in files {
+        tmp.persist(&path)?;
+    }
+    Ok(yamls)
 }

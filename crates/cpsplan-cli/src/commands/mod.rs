@@ -76,7 +76,12 @@ pub(crate) fn check_memory(truth: &OccupancyGrid, config: &Config) -> Result<()>
 /// Refuses, in one line, `what` estimated to need `needed_mb` when that is
 /// more than `limits.max_memory_mb` or, without that limit, the memory the
 /// process may use; `hint` says what to change.
-pub(crate) fn check_memory_of(what: &str, needed_mb: f64, config: &Config, hint: &str) -> Result<()> {
+pub(crate) fn check_memory_of(
+    what: &str,
+    needed_mb: f64,
+    config: &Config,
+    hint: &str,
+) -> Result<()> {
     let (limit, source) = if config.limits.max_memory_mb > 0.0 {
         (config.limits.max_memory_mb, "`limits.max_memory_mb`")
     } else {

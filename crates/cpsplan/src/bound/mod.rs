@@ -64,15 +64,47 @@ pub enum BoundError {
     /// The start is off the map or not free.
     #[error(transparent)]
     Start(#[from] MissionError),
-    /// A spacing is not a positive number of metres.
-    #[error("--{name} must be a positive number of metres, not {value}")]
+    /// A spacing is not within one cell and the map's longer side.
+    #[error(
+        "--{name} must be from {min} m (one cell) to {max} m (the map's longer side), not {value}"
+    )]
     Spacing {
         /// The flag.
         name: &'static str,
         /// The value given.
         value: f64,
+        /// One cell, metres.
+        min: f64,
+        /// The map's longer side, metres.
+        max: f64,
+    },
+    /// The bound would need more memory than the run may use.
+    #[error(
+        "the bound's {what} {needed_mb:.0} MB, more than {limit_by} ({limit_mb:.0} MB); \
+         widen --spacing or --target-spacing, or choose a coarser --resolution"
+    )]
+    Memory {
+        /// What needs it, with its size ("views of 2,560,000 stations are
+        /// estimated to need").
+        what: String,
+        /// The estimate, MB.
+        needed_mb: f64,
+        /// The limit, MB.
+        limit_mb: f64,
+        /// What sets the limit.
+        limit_by: String,
     },
 }
+
+/// Bytes per grid cell of the bound's own maps (the solid copy, the drivable
+/// cells, the travel field, the coverage tracker, the target numbers).
+pub const BOUND_BYTES_PER_CELL: f64 = 32.0;
+
+/// Stations whose views are counted to estimate the memory of all of them.
+const SAMPLED_VIEWS: usize = 64;
+
+/// Bytes in a megabyte (MiB, as the memory limits count).
+const MB: f64 = 1024.0 * 1024.0;
 
 /// How the bound is computed: `None` chooses from the map's size.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize)]
@@ -151,13 +183,47 @@ impl KnownMapBound {
     }
 }
 
+/// The memory limit: `limits.max_memory_mb` when set, else `available`
+/// (MB and what sets it), else none.
+fn memory_limit(config: &Config, available: Option<(f64, &str)>) -> Option<(f64, String)> {
+    if config.limits.max_memory_mb > 0.0 {
+        Some((
+            config.limits.max_memory_mb,
+            "`limits.max_memory_mb`".to_string(),
+        ))
+    } else {
+        available.map(|(mb, source)| (mb, source.to_string()))
+    }
+}
+
+/// Refuses `needed_mb` for `what` beyond `limit`.
+fn check_memory(
+    what: String,
+    needed_mb: f64,
+    limit: &Option<(f64, String)>,
+) -> Result<(), BoundError> {
+    match limit {
+        Some((limit_mb, source)) if needed_mb > *limit_mb => Err(BoundError::Memory {
+            what,
+            needed_mb: needed_mb.ceil(),
+            limit_mb: limit_mb.floor(),
+            limit_by: source.clone(),
+        }),
+        _ => Ok(()),
+    }
+}
+
 /// Computes the known-map bound of `truth` (planning resolution applied; anything
-/// not Free is solid) for a team starting at `start`.
+/// not Free is solid) for a team starting at `start`. Its memory is estimated
+/// before each large allocation (the grid's maps; the stations' views, from a
+/// sample of them) and refused beyond `limits.max_memory_mb` or, without that
+/// limit, `available` (MB and what sets it, for the message).
 pub fn known_map_bound(
     truth: &OccupancyGrid,
     start: Point,
     config: &Config,
     params: BoundParams,
+    available: Option<(f64, &str)>,
 ) -> Result<KnownMapBound, BoundError> {
     // The children play no part in the bound: their link range is not checked.
     let mut checked = config.clone();
@@ -165,16 +231,31 @@ pub fn known_map_bound(
     checked.validate()?;
     let g = *truth.geometry();
     g.check_limits(config)?;
+    let (min, max) = (g.resolution, g.width.max(g.height) as f64 * g.resolution);
     for (name, v) in [
         ("spacing", params.spacing_m),
         ("target-spacing", params.target_spacing_m),
     ] {
-        if let Some(v) = v {
-            if !(v.is_finite() && v > 0.0 && v <= crate::config::MAX_COORDINATE_M) {
-                return Err(BoundError::Spacing { name, value: v });
+        if let Some(value) = v {
+            // Within a millionth of a cell of the ends counts as the end.
+            let slack = 1e-6 * min;
+            if !(value.is_finite() && value >= min - slack && value <= max + slack) {
+                return Err(BoundError::Spacing {
+                    name,
+                    value,
+                    min: tidy(min),
+                    max: tidy(max),
+                });
             }
         }
     }
+    let limit = memory_limit(config, available);
+    let maps_mb = g.len() as f64 * BOUND_BYTES_PER_CELL / MB;
+    check_memory(
+        format!("maps of {} cells are estimated to need", g.len()),
+        maps_mb,
+        &limit,
+    )?;
     let truth = truth.solidified();
     let cell = start_cell(&truth, start)?;
     let res = g.resolution;
@@ -236,26 +317,42 @@ pub fn known_map_bound(
     // Each station's view of the targets, by the scanner's rule.
     let t = truth.cells();
     let range_cells = config.range_cells();
-    let sets: Vec<Vec<u32>> = stations
-        .par_iter()
-        .map(|&(i, _)| {
-            let mut seen = Vec::new();
-            visible_cells(
-                &g,
-                g.cell(i),
-                range_cells,
-                |j| t[j] != CellState::Free,
-                |j| {
-                    if target_of[j] != u32::MAX {
-                        seen.push(target_of[j]);
-                    }
-                    false
-                },
-            );
-            seen.sort_unstable();
-            seen
-        })
-        .collect();
+    let view = |i: usize| {
+        let mut seen = Vec::new();
+        visible_cells(
+            &g,
+            g.cell(i),
+            range_cells,
+            |j| t[j] != CellState::Free,
+            |j| {
+                if target_of[j] != u32::MAX {
+                    seen.push(target_of[j]);
+                }
+                false
+            },
+        );
+        seen.sort_unstable();
+        seen.shrink_to_fit();
+        seen
+    };
+    // Their memory, from a sample: the views (4 bytes a target seen) and the
+    // lower bound's work on them (about as much again), beside the maps.
+    let sample = stations.len().min(SAMPLED_VIEWS);
+    let seen_in_sample: usize = (0..sample)
+        .into_par_iter()
+        .map(|k| view(stations[k * stations.len() / sample].0).len())
+        .sum();
+    let per_station = seen_in_sample as f64 / sample.max(1) as f64;
+    check_memory(
+        format!(
+            "maps and views of {} stations (about {} targets each) are estimated to need",
+            stations.len(),
+            per_station.round()
+        ),
+        maps_mb + stations.len() as f64 * per_station * 2.0 * 4.0 / MB,
+        &limit,
+    )?;
+    let sets: Vec<Vec<u32>> = stations.par_iter().map(|&(i, _)| view(i)).collect();
     let mut coverable: Vec<u32> = Vec::new();
     {
         let mut hit = vec![false; target_cells.len()];

@@ -579,7 +579,8 @@ impl Config {
                 format!(
                     "the grid would have {} cells ({size}), more than \
                      `limits.max_grid_cells` = {}; choose a coarser resolution or raise the limit",
-                    approx(cells as f64),
+                    // The product itself: `cells` saturates at 1.8e19.
+                    approx(width as f64 * height as f64),
                     number(self.limits.max_grid_cells as f64)
                 ),
             );
@@ -650,6 +651,18 @@ impl Config {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_grid_beyond_any_count_states_its_true_size() {
+        let c = Config::default();
+        let side = 1u64 << 40;
+        let e = c
+            .check_grid(side, side, 0.1, (0.0, 0.0))
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("would have 1.209e24 cells"), "{e}");
+        assert!(!e.contains("e19"), "{e}");
+    }
 
     #[test]
     fn every_default_is_inside_its_bounds_and_every_key_is_unique() {

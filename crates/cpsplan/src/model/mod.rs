@@ -21,8 +21,8 @@ mod walls;
 
 pub use accuracy::{mean_and_p95, ModelAccuracy, ScanAccuracy};
 pub use build::{
-    build_model, build_model_in, model_point_count, scanner_frame_scans, ModelError, RegisteredModel,
-    Registration,
+    build_model, build_model_in, model_point_count, scanner_frame_scans, ModelError,
+    RegisteredModel, Registration,
 };
 pub use points::{ModelPoint, ModelStation};
 pub use scan::{scan_points, wall_hit, Sampling, ScanPose};

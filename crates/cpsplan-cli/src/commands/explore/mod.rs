@@ -393,7 +393,9 @@ pub fn run(args: &ExploreArgs) -> Result<()> {
             )?;
             points
                 .try_reserve_exact(usize::try_from(count).unwrap_or(usize::MAX))
-                .map_err(|_| anyhow!("--cloud-out: no memory for the {count} points of the 3D model"))?;
+                .map_err(|_| {
+                    anyhow!("--cloud-out: no memory for the {count} points of the 3D model")
+                })?;
         }
     }
     let mut model_warning = None;
@@ -697,7 +699,11 @@ fn check_cloud_out(path: &Path, out: &Path, force: bool) -> Result<()> {
             Ok(_) if !force => bail!(
                 "--cloud-out: {} already exists; --force replaces it (and {})",
                 file.display(),
-                if file == path { stations.display() } else { path.display() }
+                if file == path {
+                    stations.display()
+                } else {
+                    path.display()
+                }
             ),
             _ => {}
         }
