@@ -10,8 +10,8 @@ use cpsplan::Point;
 
 use super::{load_planning_grid, read_config, validate};
 use crate::args::{
-    defaults, parse_instrument, parse_planner, parse_point, parse_preset, parse_real, parse_seed,
-    parse_strategy, with_default,
+    defaults, parse_count, parse_instrument, parse_planner, parse_point, parse_preset, parse_real,
+    parse_seed, parse_strategy, with_default,
 };
 use crate::render::{render_step, StepView};
 use crate::report::write_temp;
@@ -26,9 +26,22 @@ pub struct PlanArgs {
     /// The parent's position, world frame metres: X,Y.
     #[arg(long, value_name = "X,Y", value_parser = parse_point, allow_hyphen_values = true)]
     pub parent: Point,
-    /// A child's position, world frame metres: X,Y (once per child).
-    #[arg(long = "child", value_name = "X,Y", value_parser = parse_point, allow_hyphen_values = true, required = true)]
+    /// A child's position, world frame metres: X,Y (once per child; none: the
+    /// parent moves alone).
+    #[arg(long = "child", value_name = "X,Y", value_parser = parse_point, allow_hyphen_values = true)]
     pub children: Vec<Point>,
+    /// Number of child robots, as a check: it must equal the --child positions
+    /// given (0: the parent alone, no --child).
+    #[arg(long = "children", value_name = "N", allow_hyphen_values = true, value_parser = parse_count)]
+    pub count: Option<usize>,
+    /// Scanner range in metres.
+    #[arg(long, value_name = "M", allow_hyphen_values = true, value_parser = parse_real,
+          help = with_default("Scanner range in metres", defaults().scanner.range))]
+    pub range: Option<f64>,
+    /// Robot radius in metres.
+    #[arg(long, value_name = "M", allow_hyphen_values = true, value_parser = parse_real,
+          help = with_default("Robot radius in metres", defaults().robot.radius))]
+    pub radius: Option<f64>,
     /// TOML file with any parameters (see docs/USER-GUIDE.md).
     #[arg(long, value_name = "FILE")]
     pub config: Option<PathBuf>,
@@ -90,6 +103,18 @@ pub fn run(args: &PlanArgs) -> Result<()> {
             }
         );
     }
+    if let Some(n) = args.count.filter(|&n| n != args.children.len()) {
+        bail!(
+            "--children {n}, but {} --child position{} given; give one --child X,Y per child \
+             (--children 0: the parent alone, no --child)",
+            args.children.len(),
+            if args.children.len() == 1 {
+                " is"
+            } else {
+                "s are"
+            }
+        );
+    }
     config.children.count = args.children.len();
     if let Some(p) = args.preset {
         p.apply(&mut config, |k| file.sets(k));
@@ -99,6 +124,12 @@ pub fn run(args: &PlanArgs) -> Result<()> {
     }
     if let Some(s) = args.seed {
         config.seed = s;
+    }
+    if let Some(r) = args.range {
+        config.scanner.range = r;
+    }
+    if let Some(r) = args.radius {
+        config.robot.radius = r;
     }
     if let Some(p) = args.planner {
         config.parent.planner = p;
@@ -119,6 +150,8 @@ pub fn run(args: &PlanArgs) -> Result<()> {
         &config,
         &[
             ("resolution", "--resolution", args.resolution.is_some()),
+            ("scanner.range", "--range", args.range.is_some()),
+            ("robot.radius", "--radius", args.radius.is_some()),
             ("children.count", "--child", true),
         ],
     )?;

@@ -26,6 +26,10 @@ pub struct StepPlan {
     /// and the predicted σ after each.
     #[serde(rename = "move")]
     pub movement: MoveRecord,
+    /// The parent's next scan position, world metres: the candidate the move
+    /// reaches (`move.target` numbers it among `plan.candidates`); `None` when
+    /// the plan stops or no move reaches a candidate.
+    pub target: Option<Point>,
     /// The predicted radial 1σ of the parent's position after the move, metres:
     /// the error this move adds to a parent pose known exactly where it stands
     /// (`None` without a move or without at least two children).
@@ -171,9 +175,14 @@ pub fn plan_step(
     };
     tracker.follow(knowledge, &mut movement, true, 1);
     let predicted_position_sigma_m = movement.cycles.last().and_then(|c| c.position_sigma_m);
+    let target = movement
+        .target
+        .and_then(|i| plan.candidates.get(i))
+        .map(|c| c.position);
     Ok(StepPlan {
         plan,
         movement,
+        target,
         predicted_position_sigma_m,
     })
 }
