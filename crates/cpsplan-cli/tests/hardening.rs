@@ -733,3 +733,57 @@ fn a_directory_the_caller_cannot_write_is_not_replaced() {
     }
     std::fs::set_permissions(&ro, std::fs::Permissions::from_mode(0o755)).unwrap();
 }
+
+/// A bare image given where its map_server YAML lies beside it is read at
+/// `--resolution` with origin 0, with a warning naming what the YAML says; no
+/// warning for the YAML itself or for a YAML of another image.
+#[test]
+fn an_image_read_without_its_yaml_says_what_is_lost() {
+    let t = tempfile::tempdir().unwrap();
+    let pgm = write(t.path(), "room.pgm", room_pgm(60, 40, |_, _| false));
+    let yaml = write(
+        t.path(),
+        "room.yaml",
+        "image: room.pgm\nresolution: 0.05\norigin: [-2.0, -3.0, 0.0]\nnegate: 0\n\
+         occupied_thresh: 0.65\nfree_thresh: 0.196\n",
+    );
+    let out = t.path().join("out");
+    let explore = |map: &Path| {
+        let run = cpsplan()
+            .args([
+                "explore",
+                "-q",
+                "--max-scans",
+                "1",
+                "--map",
+                s(map),
+                "--out",
+                s(&out),
+            ])
+            .output()
+            .unwrap();
+        assert!(
+            run.status.success(),
+            "{}",
+            String::from_utf8_lossy(&run.stderr)
+        );
+        let _ = std::fs::remove_dir_all(&out);
+        String::from_utf8_lossy(&run.stderr).into_owned()
+    };
+    let err = explore(&pgm);
+    for needle in [
+        "room.pgm is read as a plain image at 0.1 m per pixel",
+        "room.yaml beside it gives 0.05 m per pixel and origin (-2, -3",
+        "give --map",
+    ] {
+        assert!(err.contains(needle), "{needle}: {err}");
+    }
+    assert!(!explore(&yaml).contains("plain image"));
+    write(
+        t.path(),
+        "room.yaml",
+        "image: other.pgm\nresolution: 0.05\norigin: [-2.0, -3.0, 0.0]\nnegate: 0\n\
+         occupied_thresh: 0.65\nfree_thresh: 0.196\n",
+    );
+    assert!(!explore(&pgm).contains("plain image"));
+}

@@ -14,13 +14,14 @@ pub mod report;
 use std::path::Path;
 
 use anyhow::{anyhow, bail, Result};
+use cpsplan::config::number;
 use cpsplan::mission::MemoryEstimate;
 use cpsplan::world::builtin::BuiltinMap;
 use cpsplan::world::{default_start, resample_for};
 use cpsplan::{Config, OccupancyGrid, Point};
 
 use crate::formats::config::{read_config_file, ConfigFile};
-use crate::formats::rosmap::{load_any_with, ReadLimits};
+use crate::formats::rosmap::{load_any_with, yaml_beside, ReadLimits};
 use crate::memory::memory_budget;
 use crate::render::pictures_peak_bytes;
 use crate::report::MapSource;
@@ -58,7 +59,40 @@ pub(crate) fn validate(config: &Config, flags: &[(&str, &str, bool)]) -> Result<
 /// beyond `limits.max_grid_cells` is refused before it is allocated.
 pub(crate) fn load_planning_grid(path: &Path, config: &Config) -> Result<OccupancyGrid> {
     let grid = load_any_with(path, config.resolution, &ReadLimits::for_config(config))?;
+    if let Some(w) = image_alone_warning(path, config.resolution) {
+        eprintln!("warning: {w}");
+    }
     resample_for(&grid, config).map_err(|e| anyhow!("{}: {e}", path.display()))
+}
+
+/// What is lost when `path`, an image with a map_server YAML beside it that
+/// names it, is read alone at `resolution` m per pixel with origin 0: `None`
+/// when it is a YAML, has none beside it, or the YAML says the same.
+fn image_alone_warning(path: &Path, resolution: f64) -> Option<String> {
+    let is_yaml = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .is_some_and(|e| e.eq_ignore_ascii_case("yaml") || e.eq_ignore_ascii_case("yml"));
+    if is_yaml {
+        return None;
+    }
+    let (yaml, meta) = yaml_beside(path)?;
+    let [x, y, yaw] = meta.origin;
+    if meta.resolution == resolution && x == 0.0 && y == 0.0 && yaw == 0.0 {
+        return None;
+    }
+    Some(format!(
+        "{} is read as a plain image at {} m per pixel with origin (0, 0); {} beside it gives \
+         {} m per pixel and origin ({}, {}, yaw {}): give --map {} to use them",
+        path.display(),
+        number(resolution),
+        yaml.display(),
+        number(meta.resolution),
+        number(x),
+        number(y),
+        number(yaw),
+        yaml.display()
+    ))
 }
 
 /// Refuses a run on `truth` under `config` whose estimated peak memory

@@ -644,6 +644,24 @@ pub fn load_image_map(path: &Path, resolution: f64) -> Result<OccupancyGrid, For
     MapMetadata::for_image(path, resolution).load_grid()
 }
 
+/// The map_server YAML beside the image `image` that names it (`NAME.yaml` or
+/// `NAME.yml` for `NAME.pgm`), with what it says, if there is one: an image
+/// read alone loses its resolution and origin.
+pub fn yaml_beside(image: &Path) -> Option<(PathBuf, MapMetadata)> {
+    let same = |a: &Path, b: &Path| match (std::fs::canonicalize(a), std::fs::canonicalize(b)) {
+        (Ok(a), Ok(b)) => a == b,
+        _ => false,
+    };
+    ["yaml", "yml"].into_iter().find_map(|ext| {
+        let yaml = image.with_extension(ext);
+        if yaml == image || !yaml.is_file() {
+            return None;
+        }
+        let meta = MapMetadata::read(&yaml).ok()?;
+        same(&meta.image, image).then_some((yaml, meta))
+    })
+}
+
 /// Load a map from a `.yaml`/`.yml` file (with [`load_map`]) or from any other
 /// file as a plain image (with [`load_image_map`] at `default_resolution`).
 pub fn load_any(path: &Path, default_resolution: f64) -> Result<OccupancyGrid, FormatError> {
