@@ -7,6 +7,7 @@ pub mod errors;
 pub mod experiment;
 pub mod formats;
 pub mod html;
+pub mod interrupt;
 pub mod lock;
 pub mod memory;
 pub mod render;

@@ -119,7 +119,8 @@ pub fn run_campaign(
         next: 0,
         solid: Vec::new(),
     };
-    let (episode, stop) = run_loop(&mut source, prior, start, config, on_step);
+    let never = std::sync::atomic::AtomicBool::new(false);
+    let (episode, stop) = run_loop(&mut source, prior, start, config, &never, on_step);
     Ok(CampaignRun {
         episode,
         stop,

@@ -2,6 +2,8 @@
 //! there, scan again, until no reachable frontier remains or the scan limit is
 //! reached. Every step is recorded.
 
+use std::sync::atomic::{AtomicBool, Ordering};
+
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use serde::{Deserialize, Serialize};
@@ -341,6 +343,20 @@ pub fn run_episode_with(
     config: &Config,
     on_step: impl FnMut(&Step, &OccupancyGrid),
 ) -> Result<Episode, MissionError> {
+    run_episode_until(truth, start, config, &AtomicBool::new(false), on_step)
+}
+
+/// [`run_episode_with`] that ends early once `interrupt` is set (a user's
+/// Ctrl-C): the scan under way is recorded, its planned move is not made, and
+/// the summary's stop reason is [`StopReason::Interrupted`]. The episode so
+/// far is whole: every figure of a report can be drawn from it.
+pub fn run_episode_until(
+    truth: &OccupancyGrid,
+    start: Point,
+    config: &Config,
+    interrupt: &AtomicBool,
+    on_step: impl FnMut(&Step, &OccupancyGrid),
+) -> Result<Episode, MissionError> {
     config.validate()?;
     let g = *truth.geometry();
     g.check_limits(config)?;
@@ -348,7 +364,7 @@ pub fn run_episode_with(
     let cell = start_cell(&truth, start)?;
     let knowledge = OccupancyGrid::filled(g, CellState::Unknown);
     let mut source = Simulated { truth: &truth };
-    let (episode, _) = run_loop(&mut source, knowledge, cell, config, on_step);
+    let (episode, _) = run_loop(&mut source, knowledge, cell, config, interrupt, on_step);
     Ok(episode)
 }
 
@@ -362,6 +378,7 @@ pub(crate) fn run_loop<S: ScanSource>(
     mut knowledge: OccupancyGrid,
     cell: Cell,
     config: &Config,
+    interrupt: &AtomicBool,
     mut on_step: impl FnMut(&Step, &OccupancyGrid),
 ) -> (Episode, Option<StopReason>) {
     // The working buffers of the GVD and of the band's search are kept from step
@@ -459,7 +476,9 @@ pub(crate) fn run_loop<S: ScanSource>(
             Some(kept),
             voronoi.as_ref(),
         );
-        let at_limit = steps.len() + 1 >= config.mission.max_scans;
+        // Read once: the round ends as at the scan limit, under its own name.
+        let interrupted = interrupt.load(Ordering::Relaxed);
+        let at_limit = interrupted || steps.len() + 1 >= config.mission.max_scans;
         // Diminishing returns: what the last scans added against the known area.
         let window = config.mission.stop_window;
         let diminishing = window > 0 && steps.len() + 1 >= window && {
@@ -567,6 +586,7 @@ pub(crate) fn run_loop<S: ScanSource>(
             (Decision::Complete, _) => Some(StopReason::Complete),
             (Decision::FrontierBelowThreshold, _) => Some(StopReason::FrontierBelowThreshold),
             (Decision::NoReachableFrontier, _) => Some(StopReason::NoReachableFrontier),
+            (Decision::Target { .. }, _) if interrupted => Some(StopReason::Interrupted),
             (Decision::Target { .. }, _) if at_limit => Some(StopReason::ScanLimit),
             (Decision::Target { .. }, _) if diminishing => Some(StopReason::DiminishingReturns),
             (Decision::Target { index }, None) if is_fallback(&steps, index) => {

@@ -53,8 +53,8 @@ pub use calibration::{GainCalibration, CALIBRATION_MAX, CALIBRATION_MIN_SCANS};
 pub use campaign::{run_campaign, CampaignError, CampaignRun, FieldScan};
 pub use clock::{CampaignTime, Clock};
 pub use episode::{
-    parent_path, run_episode, run_episode_with, start_cell, Episode, MissionError, Step,
-    StopReason, Summary, START_REGION_SHARE, START_REGION_SHARE_OF_MAP,
+    parent_path, run_episode, run_episode_until, run_episode_with, start_cell, Episode,
+    MissionError, Step, StopReason, Summary, START_REGION_SHARE, START_REGION_SHARE_OF_MAP,
 };
 pub use field::{field_readings, network_of};
 pub use memory::MemoryEstimate;

@@ -30,6 +30,9 @@ pub enum StopReason {
     /// episode ended there: the start, the robot radius or the map is likely
     /// wrong.
     StartRegionTooSmall,
+    /// The user stopped the run ([`super::run_episode_until`]); the scans made
+    /// until then are whole.
+    Interrupted,
 }
 
 /// The share of the free space 4-connected to the start below which a start
@@ -42,7 +45,7 @@ pub const START_REGION_SHARE_OF_MAP: f64 = 0.01;
 
 impl StopReason {
     /// Every stop reason.
-    pub const ALL: [StopReason; 7] = [
+    pub const ALL: [StopReason; 8] = [
         StopReason::Complete,
         StopReason::FrontierBelowThreshold,
         StopReason::NoReachableFrontier,
@@ -50,6 +53,7 @@ impl StopReason {
         StopReason::DiminishingReturns,
         StopReason::NoCpsMove,
         StopReason::StartRegionTooSmall,
+        StopReason::Interrupted,
     ];
 
     /// The snake_case name, as in the JSON records.
@@ -62,6 +66,7 @@ impl StopReason {
             StopReason::DiminishingReturns => "diminishing_returns",
             StopReason::NoCpsMove => "no_cps_move",
             StopReason::StartRegionTooSmall => "start_region_too_small",
+            StopReason::Interrupted => "interrupted",
         }
     }
 
@@ -75,6 +80,7 @@ impl StopReason {
             StopReason::DiminishingReturns => "diminishing returns",
             StopReason::NoCpsMove => "no CPS move",
             StopReason::StartRegionTooSmall => "start region too small",
+            StopReason::Interrupted => "interrupted",
         }
     }
 }

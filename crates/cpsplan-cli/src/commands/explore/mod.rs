@@ -6,10 +6,11 @@ use std::time::Instant;
 use anyhow::{anyhow, bail, Result};
 use clap::{Args, ValueEnum};
 use cpsplan::config::{ChildStrategy, InstrumentModel, Planner, Preset, Scoring, TargetPlacement};
+use cpsplan::mission::run_episode_until;
 use cpsplan::mission::{Summary, TargetOrigin, START_REGION_SHARE};
 use cpsplan::model::{build_model, build_model_in, model_point_count, Registration};
 use cpsplan::world::builtin::BuiltinMap;
-use cpsplan::{run_episode_with, Config, Point, StopReason};
+use cpsplan::{Config, Point, StopReason};
 use indicatif::{ProgressBar, ProgressStyle};
 
 mod outputs;
@@ -27,6 +28,7 @@ use crate::args::{
 use crate::formats::mcap_out::{clock_ns, McapRecording};
 use crate::formats::rosmap::ReadLimits;
 use crate::formats::targets::read_targets;
+use crate::interrupt::{CtrlC, Interrupted};
 use crate::render::{percent, render_step, StepView};
 use crate::report::{real_path, write_atomic, write_episode_outputs, ReportDir};
 
@@ -353,16 +355,22 @@ pub fn run(args: &ExploreArgs) -> Result<()> {
         .html
         .then(|| crate::html::PageRecorder::new(*truth.geometry()));
     let mut mcap = McapRecording::new(args.mcap_out.as_deref(), config.children.count)?;
-    let episode = run_episode_with(&truth, start, &config, |step, knowledge| {
+    let ctrl_c = CtrlC::install();
+    let episode = run_episode_until(&truth, start, &config, ctrl_c.flag(), |step, knowledge| {
         mcap.record(step, knowledge);
         if let Some(page) = page.as_mut() {
             page.record(step, knowledge, &config);
         }
         bar.set_message(format!(
-            "scan {} · coverage {:.1} % · walls {:.1} %",
+            "scan {} · coverage {:.1} % · walls {:.1} %{}",
             step.scan,
             step.coverage * 100.0,
-            step.wall_coverage * 100.0
+            step.wall_coverage * 100.0,
+            if ctrl_c.pressed() {
+                " · Ctrl-C: stopping after this scan (again: quit at once)"
+            } else {
+                ""
+            }
         ));
         bar.tick();
         if figure_error.is_none() && args.step_figure.contains(&step.scan) {
@@ -594,6 +602,15 @@ pub fn run(args: &ExploreArgs) -> Result<()> {
     if let Some(w) = model_warning {
         eprintln!("warning: {w}");
     }
+    if episode.summary.stop_reason == StopReason::Interrupted {
+        return Err(Interrupted(format!(
+            "the run stopped after scan {} on Ctrl-C; the report of its scans is in {} \
+             (stop reason `interrupted`)",
+            episode.steps.len(),
+            args.out.display()
+        ))
+        .into());
+    }
     Ok(())
 }
 
@@ -645,6 +662,7 @@ pub fn coverage_warning(s: &Summary) -> Option<String> {
             )
         }
         StopReason::ScanLimit => "the scan limit ended the episode (--max-scans)".into(),
+        StopReason::Interrupted => "the run was interrupted (Ctrl-C)".into(),
         StopReason::DiminishingReturns => {
             "the last scans added almost nothing (mission.stop_window, mission.stop_share)".into()
         }
