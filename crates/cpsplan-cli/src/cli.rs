@@ -28,7 +28,7 @@ pub enum Command {
     /// Plan one step for a real team on a partial map; prints the plan as JSON.
     Plan(plan::PlanArgs),
     /// List the instrument presets with their accuracy and range.
-    Instruments,
+    Instruments(commands::instruments::InstrumentsArgs),
     /// Project a 3D point cloud (LAS, LAZ, E57, PLY, PCD) to a ROS map_server
     /// map (PGM + YAML) that explore and plan load.
     Grid(grid::GridArgs),
@@ -50,6 +50,12 @@ pub enum Command {
     /// the map and the registered scans out (pure Rust DDS, no ROS needed).
     #[cfg(feature = "ros")]
     Ros(commands::campaign::live::RosArgs),
+    /// Print every configuration key with its default value, as the TOML file
+    /// that `--config` reads.
+    Config,
+    /// Print the shell completions of cpsplan (bash, zsh, fish, elvish,
+    /// powershell), e.g. `cpsplan completions bash > ~/.local/share/bash-completion/completions/cpsplan`.
+    Completions(commands::completions::CompletionsArgs),
 }
 
 /// Parses `args` (the program name first); help and version requests print
@@ -134,7 +140,7 @@ where
         Command::Explore(args) => commands::explore::run(&args),
         Command::Maps(args) => commands::maps::run(&args),
         Command::Plan(args) => commands::plan::run(&args),
-        Command::Instruments => commands::instruments::run(),
+        Command::Instruments(args) => commands::instruments::run(&args),
         Command::Grid(args) => commands::grid::run(&args),
         Command::Bound(args) => commands::bound::run(&args),
         Command::Experiment(args) => commands::experiment::run(&args),
@@ -142,5 +148,7 @@ where
         Command::Campaign(args) => commands::campaign::run(&args),
         #[cfg(feature = "ros")]
         Command::Ros(args) => commands::campaign::live::run(&args),
+        Command::Config => commands::defaults::print_config(),
+        Command::Completions(args) => commands::completions::run(&args),
     }
 }

@@ -50,7 +50,8 @@ pub struct BoundArgs {
     /// a sub-lattice on large sites).
     #[arg(long, value_name = "M", allow_hyphen_values = true, value_parser = parse_real)]
     pub target_spacing: Option<f64>,
-    /// TOML file with any parameters of the run (see docs/USER-GUIDE.md).
+    /// TOML file with any parameters of the run (`cpsplan config` prints every
+    /// key with its default).
     #[arg(long, value_name = "FILE")]
     pub config: Option<PathBuf>,
     /// Output directory: bound.json and bound.png.

@@ -38,7 +38,7 @@ pub struct ExperimentArgs {
     #[command(subcommand)]
     pub command: Option<ExperimentCommand>,
     /// The experiment file: maps × starts × parameter sets × planners × child
-    /// strategies × instruments × seeds (docs/USER-GUIDE.md "Experiments").
+    /// strategies × instruments × seeds (the user guide's "Experiments").
     #[arg(value_name = "FILE.toml", required = true)]
     pub file: Option<PathBuf>,
     /// Directory of the records: experiment.toml, plan.json, records/NNNNNN.json

@@ -79,7 +79,8 @@ pub struct GridArgs {
     /// Also draw the map as a PNG picture into this file.
     #[arg(long, value_name = "FILE.png")]
     pub preview: Option<PathBuf>,
-    /// TOML file with the limits (`[limits]`, see docs/USER-GUIDE.md).
+    /// TOML file with the limits (`[limits]`; `cpsplan config` prints every key
+    /// with its default).
     #[arg(long, value_name = "FILE")]
     pub config: Option<PathBuf>,
     /// Print nothing but errors and warnings.

@@ -17,6 +17,9 @@ pub struct MapsArgs {
     /// Write every built-in map as ROS map_server PGM+YAML and a PNG preview here.
     #[arg(long, value_name = "DIR")]
     pub export: Option<PathBuf>,
+    /// Print the list as a JSON array (name, description, default start x, y).
+    #[arg(long, conflicts_with = "export")]
+    pub json: bool,
     /// Seed of the maps' layouts.
     #[arg(long, value_name = "N", default_value_t = 0, allow_hyphen_values = true, value_parser = parse_seed)]
     pub seed: u64,
@@ -25,6 +28,20 @@ pub struct MapsArgs {
 /// Lists the built-in maps, or exports them with `--export`.
 pub fn run(args: &MapsArgs) -> Result<()> {
     match &args.export {
+        None if args.json => {
+            let all: Vec<serde_json::Value> = BuiltinMap::ALL
+                .iter()
+                .map(|map| {
+                    let p = map.default_start();
+                    serde_json::json!({
+                        "name": map.name(),
+                        "description": map.description(),
+                        "start": { "x": p.x, "y": p.y },
+                    })
+                })
+                .collect();
+            println!("{}", serde_json::to_string_pretty(&all)?);
+        }
         None => {
             for map in BuiltinMap::ALL {
                 let p = map.default_start();

@@ -3,6 +3,8 @@
 
 pub mod bound;
 pub mod campaign;
+pub mod completions;
+pub mod defaults;
 pub mod experiment;
 pub mod explore;
 pub mod grid;

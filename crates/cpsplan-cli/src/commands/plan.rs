@@ -42,7 +42,8 @@ pub struct PlanArgs {
     #[arg(long, value_name = "M", allow_hyphen_values = true, value_parser = parse_real,
           help = with_default("Robot radius in metres", defaults().robot.radius))]
     pub radius: Option<f64>,
-    /// TOML file with any parameters (see docs/USER-GUIDE.md).
+    /// TOML file with any parameters (`cpsplan config` prints every key with
+    /// its default).
     #[arg(long, value_name = "FILE")]
     pub config: Option<PathBuf>,
     /// Planning resolution in metres per cell.

@@ -40,12 +40,13 @@ pub struct AddArgs {
     /// PCD): origin at the scanner's centre, x along the total station's zero.
     #[arg(long, value_name = "FILE")]
     pub scan: PathBuf,
-    /// The total station's readings since the scan before (CSV,
-    /// docs/USER-GUIDE.md "Readings"); the first scan's may hold only a header.
+    /// The total station's readings since the scan before (CSV: station,
+    /// point, slope_distance_m, hz_direction_gon, zenith_angle_gon; the user
+    /// guide's "Readings"); the first scan's may hold only a header.
     #[arg(long, value_name = "FILE.csv")]
     pub readings: PathBuf,
-    /// Also write the campaign so far as ROS 2 messages in an MCAP file
-    /// (docs/USER-GUIDE.md "Robot software").
+    /// Also write the campaign so far as ROS 2 messages in an MCAP file (the
+    /// user guide's "Robot software").
     #[arg(long, value_name = "FILE.mcap")]
     pub mcap_out: Option<PathBuf>,
     /// Print nothing but errors.

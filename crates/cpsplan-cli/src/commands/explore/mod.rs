@@ -51,7 +51,8 @@ pub struct ExploreArgs {
     /// Start position of the parent, world frame metres: X,Y.
     #[arg(long, value_name = "X,Y", value_parser = parse_point, allow_hyphen_values = true)]
     pub start: Option<Point>,
-    /// TOML file with any parameters of the run (see docs/USER-GUIDE.md).
+    /// TOML file with any parameters of the run (`cpsplan config` prints every
+    /// key with its default).
     #[arg(long, value_name = "FILE")]
     pub config: Option<PathBuf>,
     /// Weight α of the travel term of Eq. (1).
@@ -159,7 +160,7 @@ pub struct ExploreArgs {
     pub field_data: Option<PathBuf>,
     /// Write the campaign as ROS 2 messages in an MCAP file: the knowledge
     /// map, the registered scans, the stations, every robot's path, the plans
-    /// and tf (docs/USER-GUIDE.md "Robot software").
+    /// and tf (the user guide's "Robot software").
     #[arg(long, value_name = "FILE.mcap")]
     pub mcap_out: Option<PathBuf>,
     /// Height of the walls of the 3D model, metres.
