@@ -319,3 +319,57 @@ fn broken_clouds_and_absurd_parameters_are_refused_cleanly() {
     assert_eq!(grid.count(CellState::Occupied), 1);
     assert_eq!(grid.count(CellState::Free), 2);
 }
+
+/// The airborne scan at 0.5 m leaves gaps between the scan lines (unknown
+/// cells between free ones, a wall to sight and to the robots): `grid` warns
+/// and names the resolution that mends it; at that resolution, and for the
+/// terrestrial scans with `--free-from-scans`, it says nothing.
+#[test]
+fn a_fragmented_free_space_is_warned_with_its_fix() {
+    let test = "a_fragmented_free_space_is_warned_with_its_fix";
+    let Some(autzen) = shared("autzen_trim.laz", test) else {
+        return;
+    };
+    let out = tempfile::tempdir().unwrap();
+    let grid = |cloud: &Path, extra: &[&str]| {
+        let run = cpsplan()
+            .args(["grid", "-q", "--cloud", s(cloud), "--out"])
+            .arg(out.path().join("m.yaml"))
+            .args(extra)
+            .output()
+            .unwrap();
+        assert!(
+            run.status.success(),
+            "{}",
+            String::from_utf8_lossy(&run.stderr)
+        );
+        String::from_utf8_lossy(&run.stderr).into_owned()
+    };
+    let band = ["--height-above-ground", "1,60"];
+    let err = grid(&autzen, &[&band[..], &["--resolution", "0.5"]].concat());
+    for needle in [
+        "warning: the free space is fragmented",
+        "% of it is gaps",
+        "--resolution 1 leaves",
+    ] {
+        assert!(err.contains(needle), "{needle}: {err}");
+    }
+    assert_eq!(err.lines().count(), 1, "{err}");
+    assert!(!grid(&autzen, &[&band[..], &["--resolution", "1"]].concat()).contains("fragmented"));
+    for (name, extra) in [
+        ("pcl_room_scan1.pcd", &["--free-from-scans"][..]),
+        (
+            "velodyne_outdoor_scan_251370668.pcd",
+            &["--free-from-scans"][..],
+        ),
+        (
+            "pump_room_scan.e57",
+            &["--free-from-scans", "--resolution", "0.05"][..],
+        ),
+    ] {
+        let Some(path) = shared(name, test) else {
+            continue;
+        };
+        assert!(!grid(&path, extra).contains("fragmented"), "{name}");
+    }
+}

@@ -5,10 +5,12 @@ use std::time::Instant;
 
 use anyhow::{anyhow, bail, Result};
 use clap::{Args, ValueEnum};
-use cpsplan::config::approx;
+use cpsplan::config::{approx, number};
 use cpsplan::world::projection::{
-    project, BeamOrigin, GroundModel, HeightBand, PlanarTransform, Projection, ProjectionParams,
+    free_space_pieces, project, BeamOrigin, GroundModel, HeightBand, PlanarTransform, Projection,
+    ProjectionParams, FRAGMENTED_SHARE, GAPPY_SHARE,
 };
+use cpsplan::Config;
 use indicatif::{ProgressBar, ProgressStyle};
 
 use super::read_config;
@@ -208,6 +210,9 @@ pub fn run(args: &GridArgs) -> Result<()> {
     })
     .map_err(|e| anyhow!("{}: {e}", args.cloud.display()))?;
     projecting.finish_and_clear();
+    if let Some(w) = fragmentation_warning(&cloud, &origins, &params, &config, &projection) {
+        eprintln!("warning: {w}");
+    }
     let notes = yaml_notes(args, &cloud, &projection, &params);
     let preview = match &args.preview {
         Some(path) => {
@@ -232,6 +237,62 @@ pub fn run(args: &GridArgs) -> Result<()> {
         );
     }
     Ok(())
+}
+
+/// Coarser cells tried when the free space falls apart, as multiples of the
+/// resolution asked for.
+const COARSER: [f64; 3] = [2.0, 3.0, 4.0];
+
+/// The warning for a map whose free space is fragmented (points too sparse
+/// for the cells: gaps of unknown cells between free ones, which block sight
+/// and driving, or pieces the robots cannot drive between), with the finest
+/// resolution of [`COARSER`] that mends it, found by projecting again.
+fn fragmentation_warning(
+    cloud: &Cloud,
+    origins: &[BeamOrigin],
+    params: &ProjectionParams,
+    config: &Config,
+    projection: &Projection,
+) -> Option<String> {
+    let pieces = free_space_pieces(&projection.grid);
+    if !pieces.fragmented() {
+        return None;
+    }
+    let better = COARSER.iter().find_map(|&k| {
+        let coarser = ProjectionParams {
+            resolution: params.resolution * k,
+            ..params.clone()
+        };
+        let p = project(&cloud.points, origins, &coarser, config, |_, _| {}).ok()?;
+        let pieces = free_space_pieces(&p.grid);
+        (!pieces.fragmented()).then_some((coarser.resolution, pieces))
+    });
+    let fix = match better {
+        Some((r, p)) => format!(
+            "--resolution {} leaves {:.1} % gaps and {:.0} % in one piece",
+            number(r),
+            100.0 * p.gap_share(),
+            100.0 * p.largest_share()
+        ),
+        None => format!(
+            "no resolution up to {} m mends it: lower --min-points, or with scans taken from \
+             the ground add --free-from-scans",
+            number(params.resolution * COARSER[COARSER.len() - 1])
+        ),
+    };
+    Some(format!(
+        "the free space is fragmented: {:.1} % of it is gaps (unknown cells between free ones, \
+         more than {:.0} %) and its largest 4-connected piece holds {:.1} % of the {} free cells \
+         ({} pieces; fewer than {:.0} % is fragmented): the points lie farther apart than the {} m \
+         cells, and gaps block sight and driving as walls do; {fix}",
+        100.0 * pieces.gap_share(),
+        100.0 * GAPPY_SHARE,
+        100.0 * pieces.largest_share(),
+        pieces.free_cells,
+        pieces.pieces,
+        100.0 * FRAGMENTED_SHARE,
+        number(params.resolution)
+    ))
 }
 
 /// The file name of `path` (the whole path when it has none).

@@ -21,6 +21,7 @@
 mod beams;
 mod ground;
 mod outliers;
+mod pieces;
 
 use std::borrow::Cow;
 use std::ops::Range;
@@ -28,6 +29,7 @@ use std::ops::Range;
 use thiserror::Error;
 
 pub use ground::{Ground, GroundModel};
+pub use pieces::{free_space_pieces, FreeSpacePieces, FRAGMENTED_SHARE, GAPPY_SHARE};
 
 use crate::config::{number, Config, ConfigError};
 use crate::geom::Point;
