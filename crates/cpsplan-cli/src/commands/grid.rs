@@ -261,7 +261,7 @@ fn fragmentation_warning(
     let better = COARSER.iter().find_map(|&k| {
         let coarser = ProjectionParams {
             resolution: params.resolution * k,
-            ..params.clone()
+            ..*params
         };
         let p = project(&cloud.points, origins, &coarser, config, |_, _| {}).ok()?;
         let pieces = free_space_pieces(&p.grid);
