@@ -562,8 +562,13 @@ fn plan_rejects_bad_robots_and_reports_nothing_to_scan() {
     assert!(done.status.success());
     let plan: Value = serde_json::from_slice(&done.stdout).unwrap();
     assert_eq!(plan["plan"]["decision"]["kind"], "complete");
+    // The parent alone (no --child) is planned too.
+    let alone = run(&["--parent", "3,2"]);
+    assert!(alone.status.success());
+    let plan: Value = serde_json::from_slice(&alone.stdout).unwrap();
+    assert_eq!(plan["plan"]["decision"]["kind"], "complete");
     for (args, needle) in [
-        (vec!["--parent", "3,2"], "--child"),
+        (vec!["--parent", "3,2", "--children", "1"], "--child"),
         (vec!["--parent", "3,2", "--child", "0.05,0.05"], "child 1"),
         (
             vec!["--parent", "30,2", "--child", "1,1"],
