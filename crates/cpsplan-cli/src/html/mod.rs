@@ -442,9 +442,9 @@ pub fn episode_page(
     let data = PageData {
         title: title.to_string(),
         subtitle: format!(
-            "{} scans \u{b7} coverage {:.1} % \u{b7} parent travel {:.0} m \u{b7} {} \u{b7} {} \u{d7} {} cells of {} m",
+            "{} scans \u{b7} coverage {} % \u{b7} parent travel {:.0} m \u{b7} {} \u{b7} {} \u{d7} {} cells of {} m",
             s.scans,
-            100.0 * s.coverage,
+            crate::render::share_percent(s.coverage),
             s.parent_travel_m,
             s.stop_reason.name(),
             g.width,

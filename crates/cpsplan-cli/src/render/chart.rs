@@ -85,6 +85,22 @@ pub fn percent(p: f64) -> String {
     format!("{p:.digits$}")
 }
 
+/// A share in 0–1 as a percentage with one decimal that never rounds to a
+/// whole it has not reached: 0.9997 is "99.9", not "100.0"; 0.0004 is "0.1",
+/// not "0.0" (only 0 and 1 print as "0.0" and "100.0").
+pub fn share_percent(share: f64) -> String {
+    let p = 100.0 * share;
+    let shown = (p * 10.0).round() / 10.0;
+    let shown = if shown >= 100.0 && share < 1.0 {
+        99.9
+    } else if shown <= 0.0 && share > 0.0 {
+        0.1
+    } else {
+        shown
+    };
+    format!("{shown:.1}")
+}
+
 /// "Nice" tick values covering `lo..hi`: about `n` steps of 1, 2 or 5 × 10^k.
 fn ticks(lo: f64, hi: f64, n: usize) -> Vec<f64> {
     let span = (hi - lo).max(1e-12);
@@ -476,6 +492,15 @@ pub fn error_chart(episode: &cpsplan::Episode, title: &str) -> Option<Chart> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn shares_never_round_to_a_whole_they_did_not_reach() {
+        assert_eq!(share_percent(0.9997), "99.9");
+        assert_eq!(share_percent(1.0), "100.0");
+        assert_eq!(share_percent(0.0004), "0.1");
+        assert_eq!(share_percent(0.0), "0.0");
+        assert_eq!(share_percent(0.4567), "45.7");
+    }
 
     fn chart() -> Chart {
         Chart {

@@ -396,12 +396,12 @@ fn summary_line(episode: &Episode) -> String {
     let s = &episode.summary;
     let stop = s.stop_reason.describe();
     format!(
-        "{} scan{} \u{b7} coverage {:.1} % \u{b7} walls {:.1} % \u{b7} parent travel {:.1} m \
+        "{} scan{} \u{b7} coverage {} % \u{b7} walls {} % \u{b7} parent travel {:.1} m \
          \u{b7} stop: {} \u{b7} planner seed {}",
         s.scans,
         if s.scans == 1 { "" } else { "s" },
-        100.0 * s.coverage,
-        100.0 * s.wall_coverage,
+        super::share_percent(s.coverage),
+        super::share_percent(s.wall_coverage),
         s.parent_travel_m,
         stop,
         s.seed

@@ -41,7 +41,7 @@ mod targets;
 mod team;
 
 pub use self::bound::render_bound;
-pub use self::chart::{error_chart, percent, Chart, Series, SERIES_COLOURS};
+pub use self::chart::{error_chart, percent, share_percent, Chart, Series, SERIES_COLOURS};
 pub use self::episode::{
     pictures_peak_bytes, render_episode, render_episode_large, render_episode_pictures,
 };

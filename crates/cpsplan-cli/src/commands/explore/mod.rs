@@ -29,7 +29,7 @@ use crate::formats::mcap_out::{clock_ns, McapRecording};
 use crate::formats::rosmap::ReadLimits;
 use crate::formats::targets::read_targets;
 use crate::interrupt::{CtrlC, Interrupted};
-use crate::render::{percent, render_step, StepView};
+use crate::render::{percent, render_step, share_percent, StepView};
 use crate::report::{real_path, write_atomic, write_episode_outputs, ReportDir};
 
 /// Bytes a point of `--cloud-out`'s model takes while it is written: the
@@ -363,10 +363,10 @@ pub fn run(args: &ExploreArgs) -> Result<()> {
             page.record(step, knowledge, &config);
         }
         bar.set_message(format!(
-            "scan {} · coverage {:.1} % · walls {:.1} %{}",
+            "scan {} · coverage {} % · walls {} %{}",
             step.scan,
-            step.coverage * 100.0,
-            step.wall_coverage * 100.0,
+            share_percent(step.coverage),
+            share_percent(step.wall_coverage),
             if ctrl_c.pressed() {
                 " · Ctrl-C: stopping after this scan (again: quit at once)"
             } else {
@@ -501,11 +501,11 @@ pub fn run(args: &ExploreArgs) -> Result<()> {
     if !args.quiet {
         let s = &episode.summary;
         println!(
-            "{}: {} scans, coverage {:.1} %, walls {:.1} %, parent travel {:.1} m, stop: {} ({:.0} ms)",
+            "{}: {} scans, coverage {} %, walls {} %, parent travel {:.1} m, stop: {} ({:.0} ms)",
             source.label(),
             s.scans,
-            s.coverage * 100.0,
-            s.wall_coverage * 100.0,
+            share_percent(s.coverage),
+            share_percent(s.wall_coverage),
             s.parent_travel_m,
             crate::report::stop_label(s.stop_reason),
             wall_ms
@@ -593,6 +593,14 @@ pub fn run(args: &ExploreArgs) -> Result<()> {
         eprintln!("warning: {w}");
     }
     let c = &episode.config;
+    if c.children.count == 1 {
+        eprintln!(
+            "warning: with one child the parent's new pose is not fixed (a CPS cycle measures \
+             two children, each link a distance and a direction, to resect it): the report has \
+             no predicted error (σ null in summary.json, no error.png); --children 2 or more \
+             predicts it"
+        );
+    }
     if c.children.count < 2 && (!c.targets.is_unset() || c.mission.max_sigma_m.is_some()) {
         eprintln!(
             "warning: targets, control points and --max-sigma act on the CPS network, which needs \
@@ -684,8 +692,8 @@ pub fn coverage_warning(s: &Summary) -> Option<String> {
         format!("stop: {}", s.stop_reason.name())
     };
     Some(format!(
-        "the scans cover {:.1} % of the free space connected to the start ({stop}): {why}",
-        s.connected_coverage * 100.0
+        "the scans cover {} % of the free space connected to the start ({stop}): {why}",
+        share_percent(s.connected_coverage)
     ))
 }
 

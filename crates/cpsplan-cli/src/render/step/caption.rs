@@ -30,7 +30,7 @@ pub(super) fn caption(
     match (step.scan, step.coverage) {
         (Some(n), Some(c)) => {
             first.push(format!("scan {n}"));
-            first.push(format!("coverage {:.1} %", 100.0 * c));
+            first.push(format!("coverage {} %", crate::render::share_percent(c)));
         }
         (scan, _) => {
             if let Some(n) = scan {
