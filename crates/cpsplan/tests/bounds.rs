@@ -179,3 +179,17 @@ fn the_user_guide_lists_every_bound() {
         assert!(guide.contains(&row), "USER-GUIDE.md lacks `{row}`");
     }
 }
+
+/// A grid beyond any cell count (2⁴⁰ × 2⁴⁰) is refused with its true size,
+/// not one saturated at 1.8e19.
+#[test]
+fn a_grid_beyond_any_count_states_its_true_size() {
+    let c = Config::default();
+    let side = 1u64 << 40;
+    let e = c
+        .check_grid(side, side, 0.1, (0.0, 0.0))
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("would have 1.209e24 cells"), "{e}");
+    assert!(!e.contains("e19"), "{e}");
+}

@@ -653,18 +653,6 @@ mod tests {
     use super::*;
 
     #[test]
-    fn a_grid_beyond_any_count_states_its_true_size() {
-        let c = Config::default();
-        let side = 1u64 << 40;
-        let e = c
-            .check_grid(side, side, 0.1, (0.0, 0.0))
-            .unwrap_err()
-            .to_string();
-        assert!(e.contains("would have 1.209e24 cells"), "{e}");
-        assert!(!e.contains("e19"), "{e}");
-    }
-
-    #[test]
     fn every_default_is_inside_its_bounds_and_every_key_is_unique() {
         let c = Config::default();
         let mut keys: Vec<&str> = BOUNDS.iter().map(|b| b.key).collect();
