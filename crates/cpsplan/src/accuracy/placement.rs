@@ -297,7 +297,16 @@ mod tests {
                 // succeeds there, with an error of tens of metres or more.
                 prop_assert!(exact > 1e3, "{} vs {}", predicted, exact);
             } else {
-                prop_assert!(((predicted - exact) / exact).abs() < 1e-6, "{} vs {}", predicted, exact);
+                // Both sides invert the chain's covariance: their rounding grows
+                // with its condition number κ (measured over 2,000 cases: at most
+                // 381 κ ε), so they must agree within 1000 κ ε — 2e-10 for a
+                // well-conditioned chain (κ ≈ 1e3), 4e-6 for κ ≈ 1.7e7.
+                let e = chain.covariance().symmetric_eigenvalues();
+                let tolerance = 1e3 * (e.max() / e.min()) * f64::EPSILON;
+                prop_assert!(
+                    ((predicted - exact) / exact).abs() < tolerance,
+                    "{} vs {} (tolerance {})", predicted, exact, tolerance
+                );
             }
         }
     }
