@@ -37,17 +37,45 @@ pub fn memory_budget() -> Option<MemoryBudget> {
 /// more than [`memory_budget`]: `bytes` on disk, `factor` bytes in memory for
 /// each (text and what it is parsed into).
 pub fn check_reading(what: &str, bytes: u64, factor: f64) -> anyhow::Result<()> {
-    let needed_mb = bytes as f64 * factor / (1024.0 * 1024.0);
-    match memory_budget() {
-        Some(b) if needed_mb > b.mb => anyhow::bail!(
-            "reading {what} ({} MB on disk) is estimated to need {} MB, more than {} ({} MB)",
-            (bytes as f64 / (1024.0 * 1024.0)).ceil(),
+    const MB: f64 = 1024.0 * 1024.0;
+    check_needed(
+        &format!("reading {what} ({} MB on disk)", (bytes as f64 / MB).ceil()),
+        bytes as f64 * factor / MB,
+        0.0,
+        "",
+    )
+}
+
+/// Refuses, in one line, `what` estimated to need `needed_mb` when that is
+/// more than `configured_mb` (`limits.max_memory_mb`; 0: none) or, without
+/// it, [`memory_budget`]; `hint` (if any) says what to change.
+pub fn check_needed(
+    what: &str,
+    needed_mb: f64,
+    configured_mb: f64,
+    hint: &str,
+) -> anyhow::Result<()> {
+    let (limit, source) = if configured_mb > 0.0 {
+        (configured_mb, "`limits.max_memory_mb`")
+    } else {
+        match memory_budget() {
+            Some(b) => (b.mb, b.source),
+            None => return Ok(()),
+        }
+    };
+    if needed_mb > limit {
+        let hint = if hint.is_empty() {
+            String::new()
+        } else {
+            format!("; {hint}")
+        };
+        anyhow::bail!(
+            "{what} is estimated to need {} MB, more than {source} ({} MB){hint}",
             needed_mb.ceil(),
-            b.source,
-            b.mb.floor()
-        ),
-        _ => Ok(()),
+            limit.floor()
+        );
     }
+    Ok(())
 }
 
 /// The texts the budget is read from.

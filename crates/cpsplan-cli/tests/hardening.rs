@@ -5,7 +5,7 @@
 use std::path::{Path, PathBuf};
 
 mod common;
-use common::{cpsplan, summary};
+use common::{cpsplan, room_pgm, summary};
 
 /// Runs `args`, expects exit code 2 with exactly one line on stderr, and
 /// returns that line.
@@ -71,19 +71,6 @@ fn claimed_png(w: u32, h: u32) -> Vec<u8> {
     png.extend(chunk(b"IDAT", &[0x78, 0xda, 0xec, 0xc1, 0x01]));
     png.extend(chunk(b"IEND", &[]));
     png
-}
-
-/// A walled room as a P5 PGM (254 free, 0 wall) of `w` × `h` pixels, with
-/// `inner(x, y)` extra walls.
-fn room_pgm(w: usize, h: usize, inner: impl Fn(usize, usize) -> bool) -> Vec<u8> {
-    let mut pgm = format!("P5\n{w} {h}\n255\n").into_bytes();
-    for y in 0..h {
-        for x in 0..w {
-            let wall = x == 0 || y == 0 || x == w - 1 || y == h - 1 || inner(x, y);
-            pgm.push(if wall { 0 } else { 254 });
-        }
-    }
-    pgm
 }
 
 fn yaml(dir: &Path, name: &str, image: &str, extra: &str) -> PathBuf {

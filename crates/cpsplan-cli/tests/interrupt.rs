@@ -4,6 +4,8 @@
 use std::path::Path;
 use std::time::Duration;
 
+mod common;
+
 /// Whether process `pid` catches SIGINT (its handler is installed), from
 /// `/proc/PID/status`; `None` where that cannot be read.
 fn catches_sigint(pid: u32) -> Option<bool> {
@@ -21,22 +23,9 @@ fn ctrl_c_leaves_a_whole_report_marked_interrupted() {
     }
     // A 100 m × 100 m open site scanned with a 4 m range: hundreds of scans.
     let t = tempfile::tempdir().unwrap();
-    let (w, h) = (1000, 1000);
-    let mut pgm = format!("P5\n{w} {h}\n255\n").into_bytes();
-    for y in 0..h {
-        for x in 0..w {
-            let wall = x == 0 || y == 0 || x == w - 1 || y == h - 1 || (x % 97 < 3 && y % 89 < 3);
-            pgm.push(if wall { 0 } else { 254 });
-        }
-    }
-    std::fs::write(t.path().join("site.pgm"), pgm).unwrap();
-    let yaml = t.path().join("site.yaml");
-    std::fs::write(
-        &yaml,
-        "image: site.pgm\nresolution: 0.1\norigin: [0.0, 0.0, 0.0]\nnegate: 0\n\
-         occupied_thresh: 0.65\nfree_thresh: 0.196\n",
-    )
-    .unwrap();
+    let yaml = common::room_map(t.path(), "site", (1000, 1000), |x, y| {
+        x % 97 < 3 && y % 89 < 3
+    });
     let out = t.path().join("report");
     let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_cpsplan"))
         .args(["explore", "-q", "--range", "4", "--start", "50,50", "--map"])

@@ -59,22 +59,7 @@ fn bound_spacings_outside_one_cell_to_the_map_are_refused_with_the_range() {
 #[test]
 fn bound_views_beyond_the_memory_are_refused_before_they_are_made() {
     let t = tempfile::tempdir().unwrap();
-    let (w, h) = (1600, 1600);
-    let mut pgm = format!("P5\n{w} {h}\n255\n").into_bytes();
-    for y in 0..h {
-        for x in 0..w {
-            let wall = x == 0 || y == 0 || x == w - 1 || y == h - 1;
-            pgm.push(if wall { 0 } else { 254 });
-        }
-    }
-    std::fs::write(t.path().join("open.pgm"), pgm).unwrap();
-    let yaml = t.path().join("open.yaml");
-    std::fs::write(
-        &yaml,
-        "image: open.pgm\nresolution: 0.1\norigin: [0.0, 0.0, 0.0]\nnegate: 0\n\
-         occupied_thresh: 0.65\nfree_thresh: 0.196\n",
-    )
-    .unwrap();
+    let yaml = common::room_map(t.path(), "open", (1600, 1600), |_, _| false);
     let out = t.path().join("b");
     let args = [
         "bound",

@@ -23,7 +23,7 @@ use cpsplan::world::{default_start, resample_for};
 use cpsplan::{Config, OccupancyGrid, Point};
 
 use crate::formats::config::{read_config_file, ConfigFile};
-use crate::formats::rosmap::{load_any_with, yaml_beside, ReadLimits};
+use crate::formats::rosmap::{is_yaml_path, load_any_with, yaml_beside, ReadLimits};
 use crate::memory::memory_budget;
 use crate::render::pictures_peak_bytes;
 use crate::report::MapSource;
@@ -71,11 +71,7 @@ pub(crate) fn load_planning_grid(path: &Path, config: &Config) -> Result<Occupan
 /// names it, is read alone at `resolution` m per pixel with origin 0: `None`
 /// when it is a YAML, has none beside it, or the YAML says the same.
 fn image_alone_warning(path: &Path, resolution: f64) -> Option<String> {
-    let is_yaml = path
-        .extension()
-        .and_then(|e| e.to_str())
-        .is_some_and(|e| e.eq_ignore_ascii_case("yaml") || e.eq_ignore_ascii_case("yml"));
-    if is_yaml {
+    if is_yaml_path(path) {
         return None;
     }
     let (yaml, meta) = yaml_beside(path)?;
@@ -107,33 +103,6 @@ pub(crate) fn check_memory(truth: &OccupancyGrid, config: &Config) -> Result<()>
     config
         .check_memory(estimate.mb(1), memory_budget().map(|b| (b.mb, b.source)))
         .map_err(|e| anyhow!(e))
-}
-
-/// Refuses, in one line, `what` estimated to need `needed_mb` when that is
-/// more than `limits.max_memory_mb` or, without that limit, the memory the
-/// process may use; `hint` says what to change.
-pub(crate) fn check_memory_of(
-    what: &str,
-    needed_mb: f64,
-    config: &Config,
-    hint: &str,
-) -> Result<()> {
-    let (limit, source) = if config.limits.max_memory_mb > 0.0 {
-        (config.limits.max_memory_mb, "`limits.max_memory_mb`")
-    } else {
-        match memory_budget() {
-            Some(b) => (b.mb, b.source),
-            None => return Ok(()),
-        }
-    };
-    if needed_mb > limit {
-        bail!(
-            "{what} is estimated to need {} MB, more than {source} ({} MB); {hint}",
-            needed_mb.ceil(),
-            limit.floor()
-        );
-    }
-    Ok(())
 }
 
 /// Loads the ground truth at the planning resolution from `map`, or the built-in

@@ -668,17 +668,20 @@ pub fn load_any(path: &Path, default_resolution: f64) -> Result<OccupancyGrid, F
     load_any_with(path, default_resolution, &ReadLimits::default())
 }
 
+/// Whether `path` names a map_server YAML (`.yaml` or `.yml`, any case).
+pub fn is_yaml_path(path: &Path) -> bool {
+    path.extension()
+        .and_then(|e| e.to_str())
+        .is_some_and(|e| e.eq_ignore_ascii_case("yaml") || e.eq_ignore_ascii_case("yml"))
+}
+
 /// [`load_any`] within `limits`.
 pub fn load_any_with(
     path: &Path,
     default_resolution: f64,
     limits: &ReadLimits,
 ) -> Result<OccupancyGrid, FormatError> {
-    let is_yaml = path
-        .extension()
-        .and_then(|e| e.to_str())
-        .is_some_and(|e| e.eq_ignore_ascii_case("yaml") || e.eq_ignore_ascii_case("yml"));
-    if is_yaml {
+    if is_yaml_path(path) {
         load_map_with(path, limits)
     } else {
         check_resolution(default_resolution, path, "resolution")?;

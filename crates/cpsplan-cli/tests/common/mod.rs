@@ -120,3 +120,37 @@ pub fn run_under_address_limit(kb: u64, args: &[&str]) -> Option<std::process::O
         .expect("/bin/sh runs");
     Some(out)
 }
+
+/// A walled room as a P5 PGM (254 free, 0 wall) of `w` × `h` pixels, with
+/// `inner(x, y)` extra walls.
+pub fn room_pgm(w: usize, h: usize, inner: impl Fn(usize, usize) -> bool) -> Vec<u8> {
+    let mut pgm = format!("P5\n{w} {h}\n255\n").into_bytes();
+    for y in 0..h {
+        for x in 0..w {
+            let wall = x == 0 || y == 0 || x == w - 1 || y == h - 1 || inner(x, y);
+            pgm.push(if wall { 0 } else { 254 });
+        }
+    }
+    pgm
+}
+
+/// [`room_pgm`] written into `dir` as `NAME.pgm` with its map_server
+/// `NAME.yaml` (0.1 m pixels, origin 0); the YAML's path.
+pub fn room_map(
+    dir: &Path,
+    name: &str,
+    (w, h): (usize, usize),
+    inner: impl Fn(usize, usize) -> bool,
+) -> PathBuf {
+    std::fs::write(dir.join(format!("{name}.pgm")), room_pgm(w, h, inner)).expect("write");
+    let yaml = dir.join(format!("{name}.yaml"));
+    std::fs::write(
+        &yaml,
+        format!(
+            "image: {name}.pgm\nresolution: 0.1\norigin: [0.0, 0.0, 0.0]\nnegate: 0\n\
+             occupied_thresh: 0.65\nfree_thresh: 0.196\n"
+        ),
+    )
+    .expect("write");
+    yaml
+}

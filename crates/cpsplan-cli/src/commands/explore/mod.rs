@@ -20,7 +20,7 @@ pub use outputs::{
     readings_file_name, scan_file_name, stations_path, ModelFormat, FIELD_CONFIG, FIELD_JSON,
 };
 
-use super::{check_memory, check_memory_of, load_truth, read_config, validate};
+use super::{check_memory, load_truth, read_config, validate};
 use crate::args::{
     defaults, parse_count, parse_instrument, parse_planner, parse_point, parse_preset, parse_real,
     parse_scan_number, parse_seed, parse_strategy, scoring_name, with_default,
@@ -29,6 +29,7 @@ use crate::formats::mcap_out::{clock_ns, McapRecording};
 use crate::formats::rosmap::ReadLimits;
 use crate::formats::targets::read_targets;
 use crate::interrupt::{CtrlC, Interrupted};
+use crate::memory::check_needed;
 use crate::render::{percent, render_step, share_percent, StepView};
 use crate::report::{real_path, write_atomic, write_episode_outputs, ReportDir};
 
@@ -394,10 +395,10 @@ pub fn run(args: &ExploreArgs) -> Result<()> {
         // before the first is made.
         let count = model_point_count(&truth, &episode, &config);
         if count <= config.limits.max_cloud_points as u64 {
-            check_memory_of(
+            check_needed(
                 &format!("--cloud-out: the 3D model of {count} points"),
                 count as f64 * CLOUD_BYTES_PER_POINT / (1024.0 * 1024.0),
-                &config,
+                config.limits.max_memory_mb,
                 "raise `model.vertical_step`, lower `model.wall_height` or set `limits.max_memory_mb`",
             )?;
             points
