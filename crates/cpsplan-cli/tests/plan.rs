@@ -90,3 +90,81 @@ fn a_child_count_unlike_the_positions_is_refused_in_one_line() {
         assert!(err.contains(&format!("--children {count}, but")), "{err}");
     }
 }
+
+/// Later rounds too: the site with the default team (two children), planned
+/// again after scans 3 and 10 from `explore`'s knowledge after that scan, the
+/// team's positions at it, `--scan N` and the round's `gain_scale` (at scan 10
+/// the calibration has moved it off 1): `explore`'s target each time.
+#[test]
+fn plan_repeats_explores_choice_after_later_scans() {
+    let tmp = tempfile::tempdir().unwrap();
+    let explore = |scans: usize| {
+        let out = tmp.path().join(format!("scans{scans}"));
+        cpsplan()
+            .args(["explore", "--builtin", "site", "-q", "--max-scans"])
+            .arg(scans.to_string())
+            .arg("--out")
+            .arg(&out)
+            .assert()
+            .success();
+        out
+    };
+    let whole = explore(11);
+    let ep: Value =
+        serde_json::from_str(&std::fs::read_to_string(whole.join("episode.json")).unwrap())
+            .unwrap();
+    let mut scales = Vec::new();
+    for scan in [3, 10] {
+        let known = explore(scan).join("knowledge.yaml");
+        let step = &ep["steps"][scan - 1];
+        let at = |p: &Value| format!("{},{}", p["x"], p["y"]);
+        let mut plan = cpsplan();
+        plan.arg("plan")
+            .arg("--known")
+            .arg(&known)
+            .args(["--parent", &at(&step["position"])])
+            .args(["--scan", &scan.to_string()])
+            .args(["--gain-scale", &step["gain_scale"].to_string()]);
+        let children = step["children"]
+            .as_array()
+            .expect("the children's positions");
+        assert_eq!(children.len(), 2);
+        for c in children {
+            plan.args(["--child", &at(c)]);
+        }
+        let run = plan.output().unwrap();
+        assert!(
+            run.status.success(),
+            "{}",
+            String::from_utf8_lossy(&run.stderr)
+        );
+        let planned: Value = serde_json::from_slice(&run.stdout).unwrap();
+        let index = step["move"]["target"].as_u64().expect("explore moved on") as usize;
+        assert_eq!(
+            planned["move"]["target"], step["move"]["target"],
+            "scan {scan}"
+        );
+        assert_eq!(
+            planned["target"], step["plan"]["candidates"][index]["position"],
+            "scan {scan}"
+        );
+        scales.push(step["gain_scale"].as_f64().unwrap());
+    }
+    assert!(
+        scales[1] != 1.0,
+        "the calibration has not moved the gain scale: {scales:?}"
+    );
+}
+
+/// `--scan 0` is refused: scans count from 1.
+#[test]
+fn scan_zero_is_refused() {
+    let err = cpsplan()
+        .args([
+            "plan", "--known", "x.yaml", "--parent", "1,1", "--scan", "0",
+        ])
+        .output()
+        .unwrap();
+    assert_eq!(err.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&err.stderr).contains("count from 1"));
+}

@@ -68,23 +68,25 @@ fn the_paper_preset_gives_the_papers_choices() {
     assert!(String::from_utf8_lossy(&bad.stderr).contains("unknown preset `fast`"));
 }
 
-/// SHA-256 of each built-in map's `--preset paper` episode.json as recorded
-/// before the defaults changed (the tour with viewpoints and min-error children
-/// became the default), without the lines of the two keys whose defaults
-/// changed and which the paper's planner does not read (`tour_lookahead`, and
-/// `viewpoints`, which did not exist).
+/// SHA-256 of each built-in map's `--preset paper` episode.json, without the
+/// lines of the two keys whose defaults changed and which the paper's planner
+/// does not read (`tour_lookahead`, and `viewpoints`, which did not exist when
+/// the preset was first recorded, before the defaults changed). Recorded again
+/// once, when each planning round got its own random stream
+/// (`mission::round_rng`): the paper's episodes then differ only in the k-means
+/// seeds of the border clusters.
 const PAPER_EPISODES: [(&str, &str); 3] = [
     (
         "office",
-        "19ffdeecabe37e3b7d3a14d73c728c4d715561cb156ac692594248c92a1e9fda",
+        "e7cf53af29bf34bc94a1e233e10695035acdd20822b6853375092b612e2be5f5",
     ),
     (
         "site",
-        "2655ea75991ac60b33546cb82209a0e6731f5faeaf5c93ebafeb70d5cf7892be",
+        "161ea74c939106932a284432c49e081115b234367c3dbff0d0f2a4c6d6c48dee",
     ),
     (
         "tunnel",
-        "9e15ada464e371a637feb302154d97bb96fdadcd84a7560c3f813cc6788bfd8e",
+        "996e5af3d9b59370d2d347816a8ac1583ce2bca7df8a1bcd1bf9408efbdeb852",
     ),
 ];
 

@@ -13,6 +13,14 @@ use crate::args::{
     defaults, parse_count, parse_instrument, parse_planner, parse_point, parse_preset, parse_real,
     parse_seed, parse_strategy, with_default,
 };
+
+/// `--scan`: a whole number from 1.
+fn parse_scan(s: &str) -> Result<usize, String> {
+    match parse_count(s)? {
+        0 => Err("the scans done so far count from 1 (the first scan is scan 1)".into()),
+        n => Ok(n),
+    }
+}
 use crate::render::{render_step, StepView};
 use crate::report::write_temp;
 
@@ -42,6 +50,16 @@ pub struct PlanArgs {
     #[arg(long, value_name = "M", allow_hyphen_values = true, value_parser = parse_real,
           help = with_default("Robot radius in metres", defaults().robot.radius))]
     pub radius: Option<f64>,
+    /// The scans done so far, this one included (counted from 1): the round
+    /// after scan N draws the random choices `explore` draws after its scan N.
+    #[arg(long, value_name = "N", default_value_t = 1, value_parser = parse_scan)]
+    pub scan: usize,
+    /// The gain estimate's scale for this round (`parent.gain_scale`); to repeat
+    /// an `explore` round, its step record's `gain_scale`.
+    #[arg(long, value_name = "F", allow_hyphen_values = true, value_parser = parse_real,
+          help = with_default("The gain estimate's scale for this round (parent.gain_scale; to repeat an \
+                               explore round, its step record's gain_scale)", defaults().parent.gain_scale))]
+    pub gain_scale: Option<f64>,
     /// TOML file with any parameters (`cpsplan config` prints every key with
     /// its default).
     #[arg(long, value_name = "FILE")]
@@ -132,6 +150,9 @@ pub fn run(args: &PlanArgs) -> Result<()> {
     if let Some(r) = args.radius {
         config.robot.radius = r;
     }
+    if let Some(g) = args.gain_scale {
+        config.parent.gain_scale = g;
+    }
     if let Some(p) = args.planner {
         config.parent.planner = p;
     }
@@ -153,11 +174,17 @@ pub fn run(args: &PlanArgs) -> Result<()> {
             ("resolution", "--resolution", args.resolution.is_some()),
             ("scanner.range", "--range", args.range.is_some()),
             ("robot.radius", "--radius", args.radius.is_some()),
+            (
+                "parent.gain_scale",
+                "--gain-scale",
+                args.gain_scale.is_some(),
+            ),
             ("children.count", "--child", true),
         ],
     )?;
     let known = load_planning_grid(&args.known, &config)?;
-    let step = cpsplan::mission::plan_step(&known, args.parent, &args.children, &config)?;
+    let step =
+        cpsplan::mission::plan_step_after(&known, args.parent, &args.children, &config, args.scan)?;
     let figure = match &args.figure {
         Some(path) => {
             let view = StepView::planned(&step, args.parent, &args.children);

@@ -303,7 +303,8 @@ fn step_figure_shows_and_regions_and_scored_candidates() {
     );
 
     // The window holds the parent, its target and every cycle, and is drawn at the
-    // scale of the other pictures (longer side about 1600 px).
+    // scale rule of the other pictures (a whole number of pixels per cell nearest
+    // to a longer side of 1600 px: from 1067 to 2000 px).
     let layout = fig.frame.layout;
     let w = fig.window;
     let g = *knowledge.geometry();
@@ -315,7 +316,9 @@ fn step_figure_shows_and_regions_and_scored_candidates() {
     // Early in the run the site is only partly known: the window is a part of it.
     assert!((w.x1 - w.x0) * (w.y1 - w.y0) < g.len() / 2, "{w:?}");
     let longest = layout.width_px.max(layout.height_px);
-    assert!((1400..=2000).contains(&longest), "{longest} px");
+    let rule = MapLayout::new(&w.geometry(&g));
+    assert_eq!(longest, rule.width_px.max(rule.height_px));
+    assert!((1067..=2000).contains(&longest), "{longest} px");
     assert_eq!(
         layout.width_px as usize,
         (w.x1 - w.x0) * layout.px_per_cell / layout.cells_per_px

@@ -36,7 +36,9 @@ pub use geometry::{CycleGeometry, NetworkGeometry, TargetPoint};
 pub use instrument::{Instrument, ARCSEC};
 pub use model::Model;
 pub use monte_carlo::{monte_carlo, realisation, MonteCarlo, Realisation};
-pub use network::{Fit, Measurement, Network, NetworkError, StationFit, Unknown};
+pub use network::{
+    Fit, Measurement, Network, NetworkError, StationFit, Unknown, MIN_TESTED_REDUNDANCY,
+};
 pub use placement::Objective;
 pub use reading::{Reading, MAX_NAME};
 pub use script::{Event, Role, Script, ScriptVar};

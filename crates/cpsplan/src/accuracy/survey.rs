@@ -747,6 +747,41 @@ mod tests {
         );
     }
 
+    /// A simulated tunnel campaign's first 14 scans of readings (2 mm + 2 ppm,
+    /// 1″), each within 2σ of the truth: accepted whole. Station S0013 sees its
+    /// two children in nearly one direction, so the 1″ directions are nearly
+    /// uncontrolled (redundancy near 1e-10), and rounding once made one 10.9σ.
+    #[test]
+    fn readings_that_fit_the_truth_are_accepted_whatever_their_redundancy() {
+        let model = Model::new(Instrument::from_config(&InstrumentConfig::default()));
+        let readings: Vec<Reading> = include_str!("testdata/tunnel-readings.csv")
+            .lines()
+            .skip(1)
+            .map(|line| {
+                let f: Vec<&str> = line.split(',').collect();
+                let gon = |s: &str| s.parse::<f64>().unwrap() * std::f64::consts::PI / 200.0;
+                Reading {
+                    station: f[0].into(),
+                    point: f[1].into(),
+                    slope_distance_m: f[2].parse().unwrap(),
+                    hz_rad: gon(f[3]),
+                    zenith_rad: gon(f[4]),
+                }
+            })
+            .collect();
+        assert_eq!(readings.len(), 49);
+        let datum = Datum {
+            station: "S0000".into(),
+            position: Point::new(4.05, 8.05),
+            heading_rad: 0.0,
+        };
+        let survey = adjust_readings(model, &datum, &[], &readings, 0).unwrap();
+        assert!(survey.left_out.is_empty(), "{:?}", survey.left_out);
+        // The last station where the simulation stood it (scan 14).
+        let s = survey.get("S0013").unwrap().position();
+        assert!(s.distance(Point::new(36.05, 16.15)) < 0.01, "{s:?}");
+    }
+
     #[test]
     fn child_markers_name_the_child_and_the_spot() {
         assert_eq!(child_spot("C1.0003"), Some((0, 3)));

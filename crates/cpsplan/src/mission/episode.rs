@@ -4,8 +4,6 @@
 
 use std::sync::atomic::{AtomicBool, Ordering};
 
-use rand::SeedableRng;
-use rand_chacha::ChaCha8Rng;
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
@@ -389,7 +387,6 @@ pub(crate) fn run_loop<S: ScanSource>(
     let mut tracker = source
         .truth()
         .map(|t| CoverageTracker::new(t, cell, config.robot.radius, &knowledge));
-    let mut rng = ChaCha8Rng::seed_from_u64(config.seed);
     let mut here = cell;
     let mut travel = 0.0;
     let mut children: Vec<Cell> = Vec::new();
@@ -472,7 +469,7 @@ pub(crate) fn run_loop<S: ScanSource>(
             &knowledge,
             here,
             &round,
-            &mut rng,
+            &mut team::round_rng(config.seed, steps.len() + 1),
             Some(kept),
             voronoi.as_ref(),
         );

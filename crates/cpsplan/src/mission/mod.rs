@@ -62,7 +62,7 @@ pub use record::{
     cycle_and_regions, move_and_regions, ChildMove, Closure, CycleRecord, LeftTarget, MoveRecord,
     RejectedTarget,
 };
-pub use step::{plan_step, PlanError, StepPlan};
+pub use step::{plan_step, plan_step_after, PlanError, StepPlan};
 pub use targets::{TargetOrigin, TargetRecord, DRIFT_STEP_M, TARGET_SPACING};
-pub use team::{execute_move, initial_children, plan_round, Groundwork, Moved, Team};
+pub use team::{execute_move, initial_children, plan_round, round_rng, Groundwork, Moved, Team};
 pub use tolerance::{Anchor, CLOSURE_ANCHORS};

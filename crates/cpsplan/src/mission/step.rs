@@ -1,8 +1,6 @@
 //! One planning step for a real team on a partial map ([`plan_step`], what
 //! `cpsplan plan` prints).
 
-use rand::SeedableRng;
-use rand_chacha::ChaCha8Rng;
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
@@ -101,7 +99,8 @@ pub enum PlanError {
 }
 
 /// Plans one step on a partial map: the same computation as the first step of
-/// [`run_episode`](super::run_episode) at that state, with `config.seed` for the random choices.
+/// [`run_episode`](super::run_episode) at that state, with `config.seed` for the random choices
+/// ([`plan_step_after`] with `scan` 1).
 ///
 /// ```
 /// use cpsplan::mission::plan_step;
@@ -123,6 +122,21 @@ pub fn plan_step(
     parent: Point,
     children: &[Point],
     config: &Config,
+) -> Result<StepPlan, PlanError> {
+    plan_step_after(knowledge, parent, children, config, 1)
+}
+
+/// Plans the step after scan `scan` (counted from 1) on a partial map: the
+/// round [`run_episode`](super::run_episode) plans after that scan, with the same
+/// random stream ([`round_rng`](super::round_rng)). To repeat an episode's
+/// choice, give its knowledge after that scan, its positions, and the gain
+/// scale the round used (`parent.gain_scale` = the step record's `gain_scale`).
+pub fn plan_step_after(
+    knowledge: &OccupancyGrid,
+    parent: Point,
+    children: &[Point],
+    config: &Config,
+    scan: usize,
 ) -> Result<StepPlan, PlanError> {
     let mut config = config.clone();
     config.children.count = children.len();
@@ -151,7 +165,7 @@ pub fn plan_step(
         .map(|(i, &p)| locate(format!("child {}", i + 1), p))
         .collect::<Result<_, _>>()?;
     check_team(&g, here, &kids, children, &config)?;
-    let mut rng = ChaCha8Rng::seed_from_u64(config.seed);
+    let mut rng = team::round_rng(config.seed, scan);
     let (mut plan, reach, groundwork) =
         team::plan_round(knowledge, here, &config, &mut rng, None, None);
     let mut tracker = Tracker::new(&config, g.cell_center(here));

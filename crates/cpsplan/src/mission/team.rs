@@ -4,6 +4,7 @@
 //! needed (section IV-C), Voronoi drives (IV-D) and the next candidate when even
 //! that fails.
 
+use rand::SeedableRng as _;
 use rand_chacha::ChaCha8Rng;
 
 use super::record::{ChildMove, CycleRecord, MoveRecord, RejectedTarget};
@@ -73,6 +74,18 @@ impl Groundwork {
             },
         }
     }
+}
+
+/// The random stream of the planning round after scan `scan` (counted from 1)
+/// of a run seeded by `seed`: each round draws from its own stream, so one
+/// round can be planned again on its own ([`plan_step_after`](super::plan_step_after))
+/// with the same choices as in the episode.
+pub fn round_rng(seed: u64, scan: usize) -> ChaCha8Rng {
+    // A fixed odd multiplier (the golden ratio's) spreads neighbouring scan
+    // numbers over the seed space; the salt keeps the rounds' streams apart
+    // from the scans' range noise, which mixes the same seed.
+    const SALT: u64 = 0x726f_756e_6473;
+    ChaCha8Rng::seed_from_u64(seed ^ SALT ^ (scan as u64).wrapping_mul(0x9e37_79b9_7f4a_7c15))
 }
 
 /// The parent's planning round (Eq. 1) and, with children, the groundwork of the

@@ -79,7 +79,8 @@ pub struct Measurement {
 pub struct Fit {
     /// Its index among the measurements.
     pub measurement: usize,
-    /// The largest standardized residual of its components, `|v| / σ_v`.
+    /// The largest standardized residual of its components, `|v| / σ_v`, over
+    /// those with a redundancy number of at least [`MIN_TESTED_REDUNDANCY`].
     pub standardized: f64,
     /// The smallest redundancy number of its components (0: not checked by any
     /// other measurement, 1: fully checked).
@@ -407,7 +408,7 @@ impl Network {
                     0.0
                 };
                 fit.redundancy = fit.redundancy.min(redundancy);
-                if qvv[(a, a)] > 0.0 {
+                if redundancy >= MIN_TESTED_REDUNDANCY {
                     fit.standardized = fit.standardized.max(r[a].abs() / qvv[(a, a)].sqrt());
                 }
             }
@@ -416,6 +417,15 @@ impl Network {
         Ok(out)
     }
 }
+
+/// The least redundancy number (the share of a component's variance left in
+/// its residual) at which its standardized residual is computed. Below it the
+/// component is uncontrolled: its residual is nearly zero whatever it holds, and
+/// `variance − h Q hᵀ` is a difference of nearly equal numbers whose rounding
+/// outweighs it (a direction of 1″ among 2 mm distances over a few metres has a
+/// redundancy near 1e-10; rounding made it 10.9σ). The reading is still tested
+/// by its other components and by the residuals of the readings it moves.
+pub const MIN_TESTED_REDUNDANCY: f64 = 1e-4;
 
 /// The Jacobian blocks (per non-fixed unknown), noise variances and residual of
 /// measurement `m` at `values`.
