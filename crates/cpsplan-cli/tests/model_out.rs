@@ -300,3 +300,132 @@ fn a_model_larger_than_the_memory_is_refused_before_it_is_made() {
         "nothing left"
     );
 }
+
+/// A 12 m × 8 m room as a LAS in international feet at state-plane-like
+/// coordinates, its floor 425 ft up and tilted, with a GeoTIFF key directory;
+/// `grid` (here with a `--transform` too) and `explore --cloud-out` write the
+/// model back in the source's feet, on its floor, with its key directory.
+#[test]
+fn a_cloud_derived_maps_model_lies_in_its_source_frame() {
+    use las::{Builder, Transform, Vector, Vlr, Writer};
+    const FOOT: f64 = 0.3048;
+    let (x0, y0, floor) = (636_000.0, 849_000.0, 425.0);
+    let floor_at = |x: f64, y: f64| floor + (0.01 * x - 0.005 * y) / FOOT;
+    let mut local: Vec<[f64; 3]> = Vec::new();
+    let (w, h) = (12.0, 8.0);
+    let mut x = 0.025;
+    while x < w {
+        let mut y = 0.025;
+        while y < h {
+            local.push([x, y, 0.0]);
+            y += 0.05;
+        }
+        x += 0.05;
+    }
+    let mut z = 0.0;
+    while z <= 3.0 {
+        let mut t = 0.0;
+        while t <= w {
+            local.push([t, 0.0, z]);
+            local.push([t, h, z]);
+            t += 0.05;
+        }
+        let mut t = 0.0;
+        while t <= h {
+            local.push([0.0, t, z]);
+            local.push([w, t, z]);
+            t += 0.05;
+        }
+        z += 0.05;
+    }
+    let keys: Vec<u8> = [1u16, 1, 0, 2, 1024, 0, 1, 1, 3076, 0, 1, 9002]
+        .iter()
+        .flat_map(|k| k.to_le_bytes())
+        .collect();
+    let mut builder = Builder::from((1, 2));
+    builder.transforms = Vector {
+        x: Transform {
+            scale: 0.001,
+            offset: x0,
+        },
+        y: Transform {
+            scale: 0.001,
+            offset: y0,
+        },
+        z: Transform {
+            scale: 0.001,
+            offset: floor,
+        },
+    };
+    builder.vlrs.push(Vlr {
+        user_id: "LASF_Projection".into(),
+        record_id: 34735,
+        description: "GeoTiff GeoKeyDirectoryTag".into(),
+        data: keys.clone(),
+    });
+    let tmp = tempfile::tempdir().unwrap();
+    let source = tmp.path().join("room.las");
+    {
+        let mut writer = Writer::from_path(&source, builder.into_header().unwrap()).unwrap();
+        for p in &local {
+            writer
+                .write_point(las::Point {
+                    x: x0 + p[0] / FOOT,
+                    y: y0 + p[1] / FOOT,
+                    z: floor_at(p[0], p[1]) + p[2] / FOOT,
+                    ..Default::default()
+                })
+                .unwrap();
+        }
+        writer.close().unwrap();
+    }
+    let map = tmp.path().join("room.yaml");
+    cpsplan()
+        .args(["grid", "-q", "--cloud", s(&source), "--out", s(&map)])
+        .args(["--transform=-193850,-258780,30deg"])
+        .assert()
+        .success();
+    let model = tmp.path().join("model.las");
+    cpsplan()
+        .args(["explore", "-q", "--map", s(&map), "--max-scans", "2"])
+        .args([
+            "--out",
+            s(&tmp.path().join("report")),
+            "--cloud-out",
+            s(&model),
+        ])
+        .assert()
+        .success();
+    let mut reader = Reader::from_path(&model).unwrap();
+    let crs: Vec<Vlr> = reader
+        .header()
+        .vlrs()
+        .iter()
+        .filter(|v| v.user_id == "LASF_Projection")
+        .cloned()
+        .collect();
+    assert_eq!(crs.len(), 1);
+    assert_eq!((crs[0].record_id, &crs[0].data), (34735, &keys));
+    let data = reader.read_all().unwrap();
+    let points: Vec<las::Point> = data.points().map(Result::unwrap).collect();
+    assert!(points.len() > 1000, "{} points", points.len());
+    let (mut lowest, mut highest) = (f64::INFINITY, f64::NEG_INFINITY);
+    for p in &points {
+        let (lx, ly) = ((p.x - x0) * FOOT, (p.y - y0) * FOOT);
+        assert!(
+            (-0.3..w + 0.3).contains(&lx) && (-0.3..h + 0.3).contains(&ly),
+            "({lx}, {ly}) m is off the room"
+        );
+        let above = p.z - floor_at(lx, ly);
+        lowest = lowest.min(above);
+        highest = highest.max(above);
+    }
+    assert!(
+        lowest.abs() < 0.3,
+        "the model's floor {lowest} ft off the source's"
+    );
+    assert!(
+        (highest - 2.0 / FOOT).abs() < 0.3,
+        "walls up to {highest} ft"
+    );
+}

@@ -15,7 +15,9 @@ use indicatif::{ProgressBar, ProgressStyle};
 
 use super::read_config;
 use crate::args::{parse_count, parse_pair, parse_real, parse_transform, parse_triple, parse_unit};
-use crate::formats::cloud::{read_cloud, Cloud, CloudReadOptions, LengthUnit};
+use crate::formats::cloud::{
+    read_cloud, Cloud, CloudReadOptions, FrameGround, LengthUnit, SourceFrame, FRAME_FORMAT,
+};
 use crate::formats::rosmap::save_map_with_notes;
 use crate::render::render_map;
 use crate::report::write_temp;
@@ -223,7 +225,22 @@ pub fn run(args: &GridArgs) -> Result<()> {
         }
         None => None,
     };
+    // The source's frame beside the map, for `explore --cloud-out`.
+    let t = params.transform;
+    let frame = SourceFrame {
+        format: FRAME_FORMAT.into(),
+        source: args.cloud.display().to_string(),
+        metres_per_unit: cloud.metres_per_unit,
+        transform: [t.tx, t.ty, t.yaw],
+        ground: FrameGround::of(&projection.ground, projection.grid.geometry()),
+        crs: cloud.crs.clone(),
+    };
+    let frame_path = SourceFrame::path_beside(&args.out);
+    let mut frame_json = serde_json::to_string_pretty(&frame)?;
+    frame_json.push('\n');
+    let frame_file = write_temp(&frame_path, frame_json.as_bytes())?;
     save_map_with_notes(&projection.grid, &args.out, &notes)?;
+    frame_file.persist(&frame_path)?;
     if let (Some(path), Some(png)) = (&args.preview, preview) {
         png.persist(path)?;
     }

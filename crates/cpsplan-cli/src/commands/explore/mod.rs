@@ -25,6 +25,7 @@ use crate::args::{
     defaults, parse_count, parse_instrument, parse_planner, parse_point, parse_preset, parse_real,
     parse_scan_number, parse_seed, parse_strategy, scoring_name, with_default,
 };
+use crate::formats::cloud::SourceFrame;
 use crate::formats::mcap_out::{clock_ns, McapRecording};
 use crate::formats::rosmap::ReadLimits;
 use crate::formats::targets::read_targets;
@@ -145,7 +146,9 @@ pub struct ExploreArgs {
     pub html: bool,
     /// Write the registered 3D model: every scan's points in the pose the CPS
     /// estimated (.las, .laz or .ply), with its stations beside it as
-    /// FILE-stations.ply (e.g. model.laz-stations.ply).
+    /// FILE-stations.ply (e.g. model.laz-stations.ply). On a map `grid` made
+    /// from a cloud (MAP.frame.json beside it), in that cloud's frame: its
+    /// units, its heights and its coordinate system.
     #[arg(long, value_name = "FILE")]
     pub cloud_out: Option<PathBuf>,
     /// Replace an existing --cloud-out file and its stations file (without
@@ -325,6 +328,10 @@ pub fn run(args: &ExploreArgs) -> Result<()> {
     if let Some(path) = &args.cloud_out {
         check_cloud_out(path, &args.out, args.force)?;
     }
+    let frame = match (&args.cloud_out, &args.map) {
+        (Some(_), Some(map)) => SourceFrame::load_beside(map)?.filter(|f| !f.is_identity()),
+        _ => None,
+    };
     if args.field_data.is_some() && config.children.count < 2 {
         bail!(
             "--field-data: the readings fix the parent's pose from two children or more (--children {})",
@@ -445,9 +452,13 @@ pub fn run(args: &ExploreArgs) -> Result<()> {
     };
     // The cloud and its stations under temporary names until the report is in.
     let cloud = match (&args.cloud_out, cloud_format, &model) {
-        (Some(path), Some(format), Some(model)) => {
-            Some(write_model_cloud(path, format, &points, model)?)
-        }
+        (Some(path), Some(format), Some(model)) => Some(write_model_cloud(
+            path,
+            format,
+            &mut points,
+            model,
+            frame.as_ref(),
+        )?),
         _ => None,
     };
     drop(points);

@@ -10,7 +10,7 @@ use cpsplan::mission::field_readings;
 use cpsplan::model::{scanner_frame_scans, ModelPoint, RegisteredModel};
 use cpsplan::Config;
 
-use crate::formats::cloud::{encode_las, encode_ply, encode_stations_ply};
+use crate::formats::cloud::{encode_las_in, encode_ply, encode_stations_ply, SourceFrame};
 use crate::formats::mcap_out::{clock_ns, McapOut};
 use crate::formats::readings::write_readings;
 use crate::report::{write_atomic, write_temp, TempFile};
@@ -172,21 +172,35 @@ pub fn stations_path(path: &Path) -> PathBuf {
     path.with_file_name(format!("{name}-stations.ply"))
 }
 
-/// Encodes the model's points and stations into temporary files beside `path`.
+/// Encodes the model's points and stations into temporary files beside `path`;
+/// with the `frame` of a cloud-derived map, in its source cloud's frame (the
+/// points moved there in place) and, as LAS/LAZ, with its coordinate system.
 pub(super) fn write_model_cloud(
     path: &Path,
     format: ModelFormat,
-    points: &[ModelPoint],
+    points: &mut [ModelPoint],
     model: &RegisteredModel,
+    frame: Option<&SourceFrame>,
 ) -> Result<(TempFile, TempFile)> {
+    let mut stations = model.stations.clone();
+    if let Some(f) = frame {
+        for p in points.iter_mut() {
+            p.position = f.to_source(p.position);
+        }
+        for s in &mut stations {
+            s.truth = f.to_source(s.truth);
+            s.estimate = f.to_source(s.estimate);
+        }
+    }
+    let crs = frame.and_then(|f| f.crs.as_ref());
     let bytes = match format {
-        ModelFormat::Las => encode_las(points, false),
-        ModelFormat::Laz => encode_las(points, true),
+        ModelFormat::Las => encode_las_in(points, false, crs),
+        ModelFormat::Laz => encode_las_in(points, true, crs),
         ModelFormat::Ply => encode_ply(points),
     }
     .with_context(|| format!("--cloud-out {}", path.display()))?;
     let cloud = write_temp(path, &bytes)?;
-    let stations = encode_stations_ply(&model.stations)
+    let stations = encode_stations_ply(&stations)
         .with_context(|| format!("--cloud-out {}", path.display()))?;
     let stations = write_temp(&stations_path(path), &stations)?;
     Ok((cloud, stations))

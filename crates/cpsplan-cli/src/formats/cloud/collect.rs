@@ -133,6 +133,8 @@ impl<'a> Collector<'a> {
             points_in_file: self.seen,
             points_dropped: self.flagged + self.non_finite,
             notes: self.notes,
+            metres_per_unit: [1.0, 1.0],
+            crs: None,
         })
     }
 

@@ -14,6 +14,7 @@ use std::io::{Read, Seek, SeekFrom};
 use las::{PointData, PointDataBuilder, Reader};
 
 use super::collect::{check_claim, Collector};
+use super::frame::SourceCrs;
 use super::las_units::FileUnits;
 use super::laz_check::{Patched, Table};
 use super::{
@@ -80,6 +81,13 @@ pub(crate) fn read<S: Source>(
         }
     }
     let (factors, notes) = conversion(FileUnits::of(&header), options.units);
+    let crs_records: Vec<::las::Vlr> = header
+        .vlrs()
+        .iter()
+        .chain(header.evlrs())
+        .cloned()
+        .collect();
+    let crs = SourceCrs::of(&crs_records, header.has_wkt_crs());
     drop(r);
     let open = || open_reader(source, patch);
 
@@ -114,7 +122,10 @@ pub(crate) fn read<S: Source>(
         }
     }
     collector.end_scan(None);
-    collector.finish(format)
+    let mut cloud = collector.finish(format)?;
+    cloud.metres_per_unit = factors;
+    cloud.crs = crs;
+    Ok(cloud)
 }
 
 /// Checks the raw header's sizes against the file and the limits; the point

@@ -19,10 +19,13 @@
 //!   translation (PCL's sensor origin).
 //!
 //! The writers ([`encode_las`], [`encode_ply`], [`encode_stations_ply`]) save
-//! the registered model of a simulated campaign.
+//! the registered model of a simulated campaign; [`SourceFrame`] (`frame`)
+//! carries a cloud-derived map's metres back to its source cloud's frame and
+//! CRS for them.
 
 mod collect;
 mod e57;
+mod frame;
 mod las;
 mod las_units;
 mod laz_check;
@@ -37,7 +40,8 @@ use std::ops::Range;
 use std::path::Path;
 use std::sync::Arc;
 
-pub use write::{encode_las, encode_ply, encode_stations_ply, scan_colour};
+pub use frame::{CrsRecord, FrameGround, SourceCrs, SourceFrame, CRS_USER_ID, FRAME_FORMAT};
+pub use write::{encode_las, encode_las_in, encode_ply, encode_stations_ply, scan_colour};
 
 /// A point cloud read from a file, coordinates in metres.
 #[derive(Debug, Clone, PartialEq)]
@@ -58,6 +62,12 @@ pub struct Cloud {
     /// One-line notes for the user, e.g. "LAS coordinates in international
     /// feet: converted to metres (× 0.3048)".
     pub notes: Vec<String>,
+    /// Metres per unit of the file's x and y, and of its heights (LAS/LAZ in
+    /// feet: 0.3048; otherwise 1).
+    pub metres_per_unit: [f64; 2],
+    /// The file's coordinate reference system (LAS/LAZ `LASF_Projection`
+    /// records), when it has one.
+    pub crs: Option<SourceCrs>,
 }
 
 /// One scan of a [`Cloud`].

@@ -14,6 +14,7 @@ use ply_rs_bw::ply::{
     Addable, ElementDef, Encoding, Header, PropertyAccess, PropertyDef, PropertyType, ScalarType,
 };
 
+use super::frame::SourceCrs;
 use super::{CloudError, CloudProblem};
 
 /// LAS coordinate resolution, metres.
@@ -82,6 +83,17 @@ fn check_finite(what: &str, positions: impl Iterator<Item = [f64; 3]>) -> Result
 /// minimum; each point's scan index as its point source id (saturating at
 /// 65535) and its GPS time, its colour and intensity from the scan index.
 pub fn encode_las(points: &[ModelPoint], compressed: bool) -> Result<Vec<u8>, CloudError> {
+    encode_las_in(points, compressed, None)
+}
+
+/// [`encode_las`] with a source cloud's coordinate reference system: its
+/// `LASF_Projection` records copied, and a WKT one flagged as LAS 1.4 requires
+/// (the file is then LAS 1.4, point format 3).
+pub fn encode_las_in(
+    points: &[ModelPoint],
+    compressed: bool,
+    crs: Option<&SourceCrs>,
+) -> Result<Vec<u8>, CloudError> {
     let what = if compressed {
         "LAZ output"
     } else {
@@ -125,6 +137,13 @@ pub fn encode_las(points: &[ModelPoint], compressed: bool) -> Result<Vec<u8>, Cl
         y: axis(1),
         z: axis(2),
     };
+    if let Some(crs) = crs {
+        builder.vlrs = crs.vlrs().map_err(|e| encode_error(what, e.to_string()))?;
+        if crs.wkt {
+            builder.version = Version::new(1, 4);
+            builder.has_wkt_crs = true;
+        }
+    }
     builder.generating_software = "cpsplan".to_string();
     builder.system_identifier = "cpsplan registered model".to_string();
     let header = builder

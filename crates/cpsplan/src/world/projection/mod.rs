@@ -86,6 +86,13 @@ impl PlanarTransform {
             p[2],
         ]
     }
+
+    /// The point this transform carries to `p` (its inverse; `z` unchanged).
+    pub fn unapply(&self, p: [f64; 3]) -> [f64; 3] {
+        let (s, c) = self.yaw.sin_cos();
+        let (x, y) = (p[0] - self.tx, p[1] - self.ty);
+        [c * x + s * y, -s * x + c * y, p[2]]
+    }
 }
 
 /// The points of one scan whose origin is known, for tracing free space.
@@ -468,6 +475,32 @@ mod tests {
         let g = p.grid.geometry();
         p.grid
             .get(g.world_to_cell(Point::new(x, y)).expect("inside"))
+    }
+
+    #[test]
+    fn unapply_undoes_apply() {
+        let t = PlanarTransform {
+            tx: 12.5,
+            ty: -3.0,
+            yaw: 2.1,
+        };
+        for p in [[0.0, 0.0, 1.0], [3.0, -4.0, 0.0], [-1e5, 2e5, -7.0]] {
+            let back = t.unapply(t.apply(p));
+            for k in 0..3 {
+                assert!(
+                    (back[k] - p[k]).abs() < 1e-9 * (1.0 + p[k].abs()),
+                    "{p:?} {back:?}"
+                );
+            }
+        }
+        // A quarter turn carries x to y.
+        let q = PlanarTransform {
+            tx: 0.0,
+            ty: 0.0,
+            yaw: std::f64::consts::FRAC_PI_2,
+        };
+        let r = q.apply([1.0, 0.0, 0.0]);
+        assert!(r[0].abs() < 1e-12 && (r[1] - 1.0).abs() < 1e-12);
     }
 
     #[test]
