@@ -7,48 +7,8 @@ use std::path::{Path, PathBuf};
 use assert_cmd::Command;
 use serde_json::Value;
 
-/// Headless Chromium, or `None` after saying, past the test harness's capture,
-/// that `test` is skipped.
-fn chromium(test: &str) -> Option<PathBuf> {
-    let names = [
-        "chromium",
-        "chromium-browser",
-        "google-chrome",
-        "google-chrome-stable",
-    ];
-    let path = std::env::var_os("PATH").unwrap_or_default();
-    for dir in std::env::split_paths(&path) {
-        for name in names {
-            let candidate = dir.join(name);
-            if candidate.is_file() {
-                return Some(candidate);
-            }
-        }
-    }
-    use std::io::Write as _;
-    let _ = writeln!(
-        std::io::stderr(),
-        "SKIPPED {test}: needs headless Chromium (Debian package `chromium`; .ci/run installs it)"
-    );
-    None
-}
-
-/// Headless `chrome` with its own new profile in `profile`, and without the
-/// background connections a closed network refuses.
-fn headless(chrome: &Path, profile: &Path) -> std::process::Command {
-    let mut c = std::process::Command::new(chrome);
-    c.args([
-        "--headless",
-        "--no-sandbox",
-        "--disable-gpu",
-        "--no-first-run",
-        "--disable-background-networking",
-        "--disable-component-update",
-        "--disable-sync",
-    ])
-    .arg(format!("--user-data-dir={}", profile.display()));
-    c
-}
+mod common;
+use common::{chromium, headless};
 
 fn page(dir: &Path, scans: &str) -> (PathBuf, String) {
     page_with(dir, scans, &[])

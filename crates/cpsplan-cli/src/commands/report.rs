@@ -49,7 +49,8 @@ pub struct ReportArgs {
 const STYLE: &str =
     "body{font:14px/1.45 system-ui,sans-serif;color:#1f2933;margin:20px;max-width:1400px}\
 table{border-collapse:collapse;font-variant-numeric:tabular-nums}\
-td,th{border-bottom:1px solid #d9e2ec;padding:4px 8px;text-align:right;white-space:nowrap}\
+td,th{border-bottom:1px solid #d9e2ec;padding:4px 6px;text-align:right;white-space:nowrap}\
+th{white-space:normal;vertical-align:bottom;min-width:4.5em;max-width:9em}\
 .wide{overflow-x:auto}\
 td:first-child,th:first-child{text-align:left}th{background:#f5f7fa}\
 .charts{display:grid;grid-template-columns:repeat(auto-fill,minmax(560px,1fr));gap:12px}\

@@ -197,7 +197,12 @@ impl Chart {
                 2,
             );
         }
-        for t in ticks(xl, xh, 10) {
+        // An axis of whole numbers (scans) is marked at whole numbers only.
+        let whole = all.iter().all(|p| p.0.fract() == 0.0);
+        for t in ticks(xl, xh, 10)
+            .into_iter()
+            .filter(|t| !whole || t.fract() == 0.0)
+        {
             s.polyline(
                 &[(px(t), y1), (px(t), y1 + 8.0)],
                 palette::MUTED_TEXT,
@@ -583,6 +588,24 @@ mod tests {
         let last_row = legend.iter().map(|t| t.1).fold(0.0, f64::max);
         let axis = texts.0.iter().find(|t| t.2 == "mm").unwrap();
         assert!(axis.1 > last_row + 10.0);
+    }
+
+    /// Four scans are marked 1, 2, 3, 4, never 1.5; a continuous axis keeps
+    /// its halves.
+    #[test]
+    fn an_axis_of_scans_is_marked_at_whole_scans() {
+        let marks = |xs: &[f64]| {
+            let mut c = chart();
+            c.series[0].points = xs.iter().map(|&x| (x, x)).collect();
+            let mut texts = Texts::default();
+            c.draw(&mut texts);
+            texts.0.iter().map(|t| t.2.clone()).collect::<Vec<String>>()
+        };
+        let scans = marks(&[1.0, 2.0, 3.0, 4.0]);
+        assert!(scans.iter().any(|t| t == "3"), "{scans:?}");
+        assert!(!scans.iter().any(|t| t == "1.5" || t == "2.5"), "{scans:?}");
+        let hours = marks(&[1.0, 2.25, 4.0]);
+        assert!(hours.iter().any(|t| t == "1.5"), "{hours:?}");
     }
 
     #[test]

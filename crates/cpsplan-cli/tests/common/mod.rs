@@ -154,3 +154,46 @@ pub fn room_map(
     .expect("write");
     yaml
 }
+
+/// Headless Chromium, or `None` after saying, past the test harness's capture,
+/// that `test` is skipped.
+pub fn chromium(test: &str) -> Option<PathBuf> {
+    let names = [
+        "chromium",
+        "chromium-browser",
+        "google-chrome",
+        "google-chrome-stable",
+    ];
+    let path = std::env::var_os("PATH").unwrap_or_default();
+    for dir in std::env::split_paths(&path) {
+        for name in names {
+            let candidate = dir.join(name);
+            if candidate.is_file() {
+                return Some(candidate);
+            }
+        }
+    }
+    use std::io::Write as _;
+    let _ = writeln!(
+        std::io::stderr(),
+        "SKIPPED {test}: needs headless Chromium (Debian package `chromium`; .ci/run installs it)"
+    );
+    None
+}
+
+/// Headless `chrome` with its own new profile in `profile`, and without the
+/// background connections a closed network refuses.
+pub fn headless(chrome: &Path, profile: &Path) -> std::process::Command {
+    let mut c = std::process::Command::new(chrome);
+    c.args([
+        "--headless",
+        "--no-sandbox",
+        "--disable-gpu",
+        "--no-first-run",
+        "--disable-background-networking",
+        "--disable-component-update",
+        "--disable-sync",
+    ])
+    .arg(format!("--user-data-dir={}", profile.display()));
+    c
+}
