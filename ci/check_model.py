@@ -80,17 +80,24 @@ def main():
     if (las.header.version.major, las.header.version.minor) != (1, 2):
         fail(f"LAS version {las.header.version}")
     ids = np.asarray(las.point_source_id)
-    if sorted(np.unique(ids)) != list(range(scans)):
-        fail("the point source ids are not the scan indices 0..scans-1")
+    if sorted(np.unique(ids)) != list(range(1, scans + 1)):
+        fail("the point source ids are not the scan numbers 1..scans")
     if not np.array_equal(np.asarray(las.gps_time), ids.astype(float)):
-        fail("gps_time does not repeat the scan index")
+        fail("gps_time does not repeat the scan number")
 
     ply = read_ply(ply_path)["vertex"]
     if len(ply) != n:
         fail(f"PLY holds {len(ply)} points, the LAS {n}")
+    if sorted(np.unique(ply["scan"])) != list(range(1, scans + 1)):
+        fail("the PLY's scan numbers are not 1..scans")
     stations = read_ply(Path(ply_path).with_name(Path(ply_path).name + "-stations.ply"))
     if len(stations["vertex"]) != scans or len(stations["edge"]) != scans - 1:
         fail("the stations PLY does not hold one vertex per scan and one edge between each")
+    if list(stations["vertex"]["scan"]) != list(range(1, scans + 1)):
+        fail("the stations are not numbered 1..scans in order")
+    model_csv = (Path(report) / "model.csv").read_text().splitlines()[1:]
+    if [int(line.split(",")[0]) for line in model_csv] != list(range(1, scans + 1)):
+        fail("model.csv does not number its scans 1..scans")
 
     # Each point within the stated 95th-percentile distance of a ground-truth
     # wall (plus the LAS's 0.1 mm quantum): one of the cells at the corners of

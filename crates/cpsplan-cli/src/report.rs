@@ -15,6 +15,7 @@ use cpsplan::{Config, GridGeometry, OccupancyGrid, Point};
 use serde::Serialize;
 
 use crate::formats::rosmap::save_map;
+use crate::formats::tidy::{tidy, tidy_opt, to_json_tidy};
 use crate::render::{error_chart, pictures_peak_bytes, render_episode_pictures};
 
 /// Where the ground truth came from.
@@ -246,42 +247,65 @@ pub fn metrics_csv(episode: &Episode) -> Result<Vec<u8>> {
         let t = s.plan.target();
         w.serialize(MetricsRow {
             scan: s.scan,
-            x: s.position.x,
-            y: s.position.y,
+            x: tidy(s.position.x),
+            y: tidy(s.position.y),
             new_free: s.outcome.new_free,
             new_occupied: s.outcome.new_occupied,
-            coverage: s.coverage,
-            wall_coverage: s.wall_coverage,
-            parent_travel_m: s.parent_travel_m,
+            coverage: tidy(s.coverage),
+            wall_coverage: tidy(s.wall_coverage),
+            parent_travel_m: tidy(s.parent_travel_m),
             border_cells: s.plan.border_cells,
             band_cells: s.plan.band_cells,
             candidates: s.plan.candidates.len(),
-            target_x: t.map(|c| c.position.x),
-            target_y: t.map(|c| c.position.y),
-            target_g: t.map(|c| c.g),
+            target_x: t.map(|c| tidy(c.position.x)),
+            target_y: t.map(|c| tidy(c.position.y)),
+            target_g: t.map(|c| tidy(c.g)),
             target_s_cells: t.map(|c| c.s_cells),
-            target_l_m: t.and_then(|c| c.l_m),
-            path_length_m: s.plan.path_length_m,
-            position_sigma_m: s.position_sigma_m,
-            heading_sigma_arcsec: s.heading_sigma_arcsec,
-            monte_carlo_error_m: s.monte_carlo_error_m,
-            gain_m2: s.gain_m2,
-            expected_gain_m2: s.expected_gain_m2,
+            target_l_m: tidy_opt(t.and_then(|c| c.l_m)),
+            path_length_m: tidy(s.plan.path_length_m),
+            position_sigma_m: tidy_opt(s.position_sigma_m),
+            heading_sigma_arcsec: tidy_opt(s.heading_sigma_arcsec),
+            monte_carlo_error_m: tidy_opt(s.monte_carlo_error_m),
+            gain_m2: tidy(s.gain_m2),
+            expected_gain_m2: tidy_opt(s.expected_gain_m2),
             expected_s_cells: s.expected_s_cells,
-            target_gain_m2: t.map(|c| c.gain_m2),
-            clock_h: s.clock_h,
+            target_gain_m2: t.map(|c| tidy(c.gain_m2)),
+            clock_h: tidy(s.clock_h),
         })?;
     }
     w.into_inner().map_err(|e| anyhow::anyhow!("{e}"))
 }
 
-/// The model's accuracy as CSV text, one row per scan.
+/// The model's accuracy as CSV text, one row per scan, scans numbered from 1
+/// as in every other file of the report.
 pub fn model_csv(accuracy: &ModelAccuracy) -> Result<Vec<u8>> {
     let mut w = csv::Writer::from_writer(Vec::new());
     for s in &accuracy.scans {
-        w.serialize(s)?;
+        w.serialize(ModelRow {
+            scan: s.scan.saturating_add(1),
+            points: s.points,
+            mean_distance_m: tidy(s.mean_distance_m),
+            p95_distance_m: tidy(s.p95_distance_m),
+            position_error_m: tidy(s.position_error_m),
+            heading_error_arcsec: tidy(s.heading_error_arcsec),
+            position_sigma_m: tidy_opt(s.position_sigma_m),
+            smoothed_sigma_m: tidy_opt(s.smoothed_sigma_m),
+        })?;
     }
     w.into_inner().map_err(|e| anyhow::anyhow!("{e}"))
+}
+
+/// One row of `model.csv` (the fields of [`cpsplan::model::ScanAccuracy`]).
+#[derive(Serialize)]
+struct ModelRow {
+    scan: u32,
+    points: usize,
+    mean_distance_m: f64,
+    p95_distance_m: f64,
+    position_error_m: f64,
+    heading_error_arcsec: f64,
+    position_sigma_m: Option<f64>,
+    smoothed_sigma_m: Option<f64>,
 }
 
 /// Every file name a report may hold (besides `step-NNN.png`).
@@ -567,10 +591,7 @@ pub fn write_episode_outputs(
         &format!("positioning error \u{2014} {}", source.label()),
     );
     let chart_png = chart.as_ref().map(|c| c.png()).transpose()?;
-    write_atomic(
-        &dir.join("episode.json"),
-        &serde_json::to_vec_pretty(&record)?,
-    )?;
+    write_atomic(&dir.join("episode.json"), &to_json_tidy(&record)?)?;
     write_atomic(&dir.join("metrics.csv"), &metrics_csv(episode)?)?;
     if let Some(m) = model {
         write_atomic(&dir.join("model.csv"), &model_csv(&m.accuracy)?)?;
@@ -588,10 +609,7 @@ pub fn write_episode_outputs(
     }
     // Last, when everything else has been drawn and written.
     summary.peak_memory_mb = peak_memory_mb();
-    write_atomic(
-        &dir.join("summary.json"),
-        &serde_json::to_vec_pretty(&summary)?,
-    )?;
+    write_atomic(&dir.join("summary.json"), &to_json_tidy(&summary)?)?;
     Ok(())
 }
 

@@ -71,7 +71,9 @@ fn the_default_episode_writes_a_las_and_a_ply_on_the_walls() {
             (c.red, c.green, c.blue),
             (257 * u16::from(r), 257 * u16::from(g), 257 * u16::from(b))
         );
-        seen_scans[scan] = true;
+        // Scans numbered from 1, as in model.csv and episode.json.
+        assert!(scan >= 1, "scan number {scan}");
+        seen_scans[scan - 1] = true;
         distances.push(walls.distance([p.x, p.y, p.z]));
     }
     assert!(seen_scans.iter().all(|&s| s), "every scan has points");

@@ -13,6 +13,7 @@ use serde::Serialize;
 
 use super::{load_truth, read_config, validate};
 use crate::args::{defaults, parse_point, parse_real, with_default};
+use crate::formats::tidy::to_json_tidy;
 use crate::memory::memory_budget;
 use crate::render::render_bound;
 use crate::report::{write_atomic, MapSource, ReportDir};
@@ -109,7 +110,7 @@ pub fn run(args: &BoundArgs) -> Result<()> {
         })?;
     let wall_ms = t0.elapsed().as_secs_f64() * 1e3;
     let label = source.label();
-    let json = serde_json::to_vec_pretty(&BoundReport {
+    let json = to_json_tidy(&BoundReport {
         map: match &source {
             MapSource::File(p) => p.display().to_string(),
             MapSource::Builtin(m) => format!("builtin:{}", m.name()),

@@ -21,6 +21,7 @@ fn parse_scan(s: &str) -> Result<usize, String> {
         n => Ok(n),
     }
 }
+use crate::formats::tidy::to_json_tidy;
 use crate::render::{render_step, StepView};
 use crate::report::write_temp;
 
@@ -198,10 +199,10 @@ pub fn run(args: &PlanArgs) -> Result<()> {
         }
         None => None,
     };
-    let mut out = serde_json::to_string_pretty(&step)?;
-    out.push('\n');
+    let mut out = to_json_tidy(&step)?;
+    out.push(b'\n');
     let printed = std::io::stdout()
-        .write_all(out.as_bytes())
+        .write_all(&out)
         .and_then(|()| std::io::stdout().flush())
         .context("cannot write the plan");
     match (printed, figure) {

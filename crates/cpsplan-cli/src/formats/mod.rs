@@ -11,3 +11,4 @@ pub mod ros2_in;
 pub mod ros_out;
 pub mod rosmap;
 pub mod targets;
+pub mod tidy;

@@ -7,8 +7,8 @@ use std::path::{Path, PathBuf};
 
 use cpsplan::model::{ModelPoint, ModelStation};
 use cpsplan_cli::formats::cloud::{
-    encode_las, encode_ply, encode_stations_ply, parse_cloud, read_cloud, scan_colour, Cloud,
-    CloudFormat, CloudReadOptions, LengthUnit,
+    encode_las, encode_ply, encode_stations_ply, parse_cloud, read_cloud, scan_colour, scan_number,
+    Cloud, CloudFormat, CloudReadOptions, LengthUnit,
 };
 use proptest::prelude::*;
 
@@ -250,12 +250,12 @@ fn encoded_las_and_laz_read_back_within_a_tenth_of_a_millimetre() {
         assert_eq!(header.transforms().x.scale, 1e-4);
         let data = reader.read_all().unwrap();
         for (p, want) in data.points().map(Result::unwrap).zip(&points) {
-            assert_eq!(p.gps_time, Some(f64::from(want.scan)));
-            assert_eq!(
-                p.point_source_id,
-                u16::try_from(want.scan).unwrap_or(u16::MAX)
-            );
-            let [r, g, b] = scan_colour(want.scan).map(|c| u16::from(c) * 257);
+            // Scans numbered from 1 in the file, as in the report's tables.
+            let n = want.scan + 1;
+            assert_eq!(scan_number(want.scan), n);
+            assert_eq!(p.gps_time, Some(f64::from(n)));
+            assert_eq!(p.point_source_id, u16::try_from(n).unwrap_or(u16::MAX));
+            let [r, g, b] = scan_colour(n).map(|c| u16::from(c) * 257);
             assert_eq!(p.color, Some(las::Color::new(r, g, b)));
             assert!((p.x - want.position[0]).abs() <= 1e-4);
         }
@@ -277,8 +277,8 @@ fn encoded_ply_reads_back_exactly_with_its_scan_and_colour() {
     assert_eq!(vertices.len(), points.len());
     for (v, p) in vertices.iter().zip(&points) {
         use ply_rs_bw::ply::Property;
-        let [r, g, b] = scan_colour(p.scan);
-        assert_eq!(v["scan"], Property::UInt(p.scan));
+        let [r, g, b] = scan_colour(p.scan + 1);
+        assert_eq!(v["scan"], Property::UInt(p.scan + 1));
         assert_eq!(v["red"], Property::UChar(r));
         assert_eq!(v["green"], Property::UChar(g));
         assert_eq!(v["blue"], Property::UChar(b));
@@ -311,6 +311,9 @@ fn stations_ply_holds_estimates_truths_and_the_route() {
     assert_eq!(v[3]["heading_error"], Property::Double(0.003));
     assert!(matches!(v[0]["sigma"], Property::Double(s) if s.is_nan()));
     assert_eq!(v[1]["sigma"], Property::Double(0.002));
+    // Stations numbered from 1, as the scans in the report.
+    assert_eq!(v[0]["scan"], Property::UInt(1));
+    assert_eq!(v[3]["scan"], Property::UInt(4));
     let edges = &ply.payload["edge"];
     assert_eq!(edges.len(), 3);
     for (i, e) in edges.iter().enumerate() {

@@ -41,7 +41,9 @@ use std::path::Path;
 use std::sync::Arc;
 
 pub use frame::{CrsRecord, FrameGround, SourceCrs, SourceFrame, CRS_USER_ID, FRAME_FORMAT};
-pub use write::{encode_las, encode_las_in, encode_ply, encode_stations_ply, scan_colour};
+pub use write::{
+    encode_las, encode_las_in, encode_ply, encode_stations_ply, scan_colour, scan_number,
+};
 
 /// A point cloud read from a file, coordinates in metres.
 #[derive(Debug, Clone, PartialEq)]

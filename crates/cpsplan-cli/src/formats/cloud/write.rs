@@ -1,7 +1,7 @@
 //! Writers for the registered model: its points as LAS/LAZ or PLY, its scan
 //! stations as PLY.
 //!
-//! Every point carries its scan index, and a colour and an intensity that
+//! Every point carries its scan's number (from 1, [`scan_number`]), and a colour and an intensity that
 //! tell scans apart in any viewer: hues a golden angle apart ([`scan_colour`]),
 //! intensities a golden ratio apart.
 
@@ -19,6 +19,12 @@ use super::{CloudError, CloudProblem};
 
 /// LAS coordinate resolution, metres.
 const LAS_SCALE: f64 = 1e-4;
+
+/// The number a file gives scan index `scan` (from 0 in memory): from 1, as
+/// the steps of `episode.json`, `metrics.csv` and `model.csv` number them.
+pub fn scan_number(scan: u32) -> u32 {
+    scan.saturating_add(1)
+}
 
 /// The golden ratio's fractional part: successive multiples are well spread
 /// over [0, 1).
@@ -80,8 +86,8 @@ fn check_finite(what: &str, positions: impl Iterator<Item = [f64; 3]>) -> Result
 
 /// The model's points as LAS 1.2, point format 3 (RGB and GPS time), LAZ
 /// when `compressed`: 0.1 mm resolution from an offset at the rounded
-/// minimum; each point's scan index as its point source id (saturating at
-/// 65535) and its GPS time, its colour and intensity from the scan index.
+/// minimum; each point's scan number as its point source id (saturating at
+/// 65535) and its GPS time, its colour and intensity from the scan number.
 pub fn encode_las(points: &[ModelPoint], compressed: bool) -> Result<Vec<u8>, CloudError> {
     encode_las_in(points, compressed, None)
 }
@@ -152,14 +158,15 @@ pub fn encode_las_in(
     let mut writer = Writer::new(Cursor::new(Vec::new()), header)
         .map_err(|e| encode_error(what, e.to_string()))?;
     for p in points {
-        let [r, g, b] = scan_colour(p.scan).map(|c| u16::from(c) * 257);
+        let n = scan_number(p.scan);
+        let [r, g, b] = scan_colour(n).map(|c| u16::from(c) * 257);
         let point = Point {
             x: p.position[0],
             y: p.position[1],
             z: p.position[2],
-            intensity: scan_intensity(p.scan),
-            point_source_id: u16::try_from(p.scan).unwrap_or(u16::MAX),
-            gps_time: Some(f64::from(p.scan)),
+            intensity: scan_intensity(n),
+            point_source_id: u16::try_from(n).unwrap_or(u16::MAX),
+            gps_time: Some(f64::from(n)),
             color: Some(Color::new(r, g, b)),
             ..Point::default()
         };
@@ -252,10 +259,10 @@ impl PropertyAccess for PointVertex {
         }
     }
     fn get_uint(&self, name: &str) -> Option<u32> {
-        (name == "scan").then_some(self.0.scan)
+        (name == "scan").then_some(scan_number(self.0.scan))
     }
     fn get_uchar(&self, name: &str) -> Option<u8> {
-        let [r, g, b] = scan_colour(self.0.scan);
+        let [r, g, b] = scan_colour(scan_number(self.0.scan));
         match name {
             "red" => Some(r),
             "green" => Some(g),
@@ -264,7 +271,7 @@ impl PropertyAccess for PointVertex {
         }
     }
     fn get_ushort(&self, name: &str) -> Option<u16> {
-        (name == "intensity").then(|| scan_intensity(self.0.scan))
+        (name == "intensity").then(|| scan_intensity(scan_number(self.0.scan)))
     }
 }
 
@@ -296,7 +303,7 @@ impl PropertyAccess for StationVertex {
         }
     }
     fn get_uint(&self, name: &str) -> Option<u32> {
-        (name == "scan").then_some(self.0.scan)
+        (name == "scan").then_some(scan_number(self.0.scan))
     }
 }
 
@@ -318,7 +325,7 @@ impl PropertyAccess for Edge {
 
 /// The model's points as binary little-endian PLY: `vertex` with `double x,
 /// y, z`, `uint scan`, `uchar red, green, blue` and `ushort intensity` (the
-/// colour and intensity from the scan index).
+/// colour and intensity from the scan number).
 pub fn encode_ply(points: &[ModelPoint]) -> Result<Vec<u8>, CloudError> {
     let what = "PLY output";
     check_finite(what, points.iter().map(|p| p.position))?;
