@@ -84,6 +84,46 @@ fn the_explore_page_shows_its_legend_and_final_error_on_the_first_screen() {
     // is not the fixed ×10 of before when that would not fit the 3 % rule.
     let scale = attr(&body, "data-ellipse-scale");
     assert!((1.0..=1000.0).contains(&scale), "ellipses ×{scale}");
+    assert_eq!(
+        attr(&body, "data-page-overflow"),
+        0.0,
+        "the page scrolls sideways"
+    );
+}
+
+/// A map with a long file name, turned by a quarter turn: the page still fits
+/// the window's width (long values wrap).
+#[test]
+fn a_long_map_name_does_not_widen_the_page() {
+    let Some(chrome) = chromium("a_long_map_name_does_not_widen_the_page") else {
+        return;
+    };
+    let tmp = tempfile::tempdir().unwrap();
+    let name = "a_map_whose_file_name_is_much_longer_than_the_side_panel_of_the_page_is_wide";
+    let yaml = common::room_map(tmp.path(), name, (160, 90), |x, y| x == 80 && y < 60);
+    let text = std::fs::read_to_string(&yaml).unwrap();
+    std::fs::write(
+        &yaml,
+        text.replace("[0.0, 0.0, 0.0]", "[0.0, 0.0, 1.5707963]"),
+    )
+    .unwrap();
+    let out = tmp.path().join("run");
+    cpsplan()
+        .args(["explore", "-q", "--html", "--max-scans", "3", "--map"])
+        .arg(&yaml)
+        .arg("--out")
+        .arg(&out)
+        .assert()
+        .success();
+    let url = format!("file://{}", out.join("report.html").display());
+    let body = body_after_scripts(&chrome, &tmp.path().join("profile"), &url);
+    assert!(body.contains("data-ready=\"1\""), "{body}");
+    assert_eq!(
+        attr(&body, "data-page-overflow"),
+        0.0,
+        "the page scrolls sideways"
+    );
+    assert!(attr(&body, "data-legend-bottom") <= 1000.0);
 }
 
 /// An experiment's report: the headline table fits the window's width (no

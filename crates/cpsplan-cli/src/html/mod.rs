@@ -23,6 +23,7 @@ use cpsplan::{CellState, Config, GridGeometry, OccupancyGrid, Point};
 use serde::Serialize;
 
 use crate::render::palette;
+use crate::render::upright::{upright, upright_order};
 
 /// The longer side of an AND region's grid, at most, in cells.
 const AND_CELLS: usize = 96;
@@ -51,7 +52,12 @@ struct StepExtras {
 /// knowledge map: when each cell was first seen, and the AND regions.
 #[derive(Debug)]
 pub struct PageRecorder {
+    /// The page's grid: the episode's, turned upright (world +x right, +y
+    /// up: `render::upright`).
     geometry: GridGeometry,
+    /// For a turned grid, the page's index of each cell of the episode's grid.
+    to_page: Option<Vec<usize>>,
+    /// By the page's cell index.
     first_seen: Vec<u16>,
     steps: Vec<StepExtras>,
 }
@@ -59,17 +65,34 @@ pub struct PageRecorder {
 impl PageRecorder {
     /// A recorder for episodes on grids of `geometry`.
     pub fn new(geometry: GridGeometry) -> Self {
+        let (geometry, to_page) = match upright_order(&geometry) {
+            Some((page, order)) => {
+                let mut to_page = vec![0; order.len()];
+                for (new, &old) in order.iter().enumerate() {
+                    to_page[old] = new;
+                }
+                (page, Some(to_page))
+            }
+            None => (geometry, None),
+        };
         Self {
             geometry,
+            to_page,
             first_seen: vec![0; geometry.len()],
             steps: Vec::new(),
         }
     }
 
+    /// The page's index of cell `i` of the episode's grid.
+    fn page_index(&self, i: usize) -> usize {
+        self.to_page.as_ref().map_or(i, |t| t[i])
+    }
+
     /// Records `step`, planned on `knowledge`.
     pub fn record(&mut self, step: &Step, knowledge: &OccupancyGrid, config: &Config) {
         let scan = u16::try_from(step.scan).unwrap_or(u16::MAX);
-        for (seen, &c) in self.first_seen.iter_mut().zip(knowledge.cells()) {
+        for (i, &c) in knowledge.cells().iter().enumerate() {
+            let seen = &mut self.first_seen[self.to_page.as_ref().map_or(i, |t| t[i])];
             if *seen == 0 && c != CellState::Unknown {
                 *seen = scan;
             }
@@ -77,7 +100,12 @@ impl PageRecorder {
         let mut and = Vec::new();
         for regions in move_and_regions(knowledge, &step.movement.cycles, config) {
             for (child, region) in regions.iter().enumerate() {
-                if let Some(r) = coarse_runs(&self.geometry, &region.cells, child) {
+                let cells: Vec<u32> = region
+                    .cells
+                    .iter()
+                    .map(|&i| u32::try_from(self.page_index(i as usize)).unwrap_or(i))
+                    .collect();
+                if let Some(r) = coarse_runs(&self.geometry, &cells, child) {
                     and.push(r);
                 }
             }
@@ -243,10 +271,11 @@ pub fn episode_page(
     map_label: &str,
 ) -> Result<String> {
     let g = &recorder.geometry;
-    let knowledge = episode.knowledge.as_ref();
+    // The knowledge map in the page's (upright) cell order.
+    let knowledge = episode.knowledge.as_ref().map(upright);
     let mut raw = Vec::with_capacity(3 * g.len());
     for (i, &seen) in recorder.first_seen.iter().enumerate() {
-        let state = match knowledge.map(|k| k.cells()[i]) {
+        let state = match knowledge.as_ref().map(|k| k.cells()[i]) {
             Some(CellState::Free) => 1u8,
             Some(CellState::Occupied) => 2,
             _ => 0,

@@ -10,6 +10,7 @@ use super::marks::draw_marker;
 use super::palette;
 use super::placer::Placer;
 use super::scan_labels::{draw_scan_labels, place_scan_labels};
+use super::upright::upright;
 use super::RenderError;
 
 /// Draws `bound`'s greedy stations on `truth` as PNG, numbered in greedy order,
@@ -19,6 +20,9 @@ pub fn render_bound(
     bound: &KnownMapBound,
     title: &str,
 ) -> Result<Vec<u8>, RenderError> {
+    // World +x right and +y up ([`upright`]); the stations are world points.
+    let truth = upright(truth);
+    let truth = truth.as_ref();
     let g = *truth.geometry();
     check_geometry(&g)?;
     let levels: Vec<String> = bound

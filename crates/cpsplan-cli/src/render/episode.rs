@@ -23,6 +23,7 @@ use super::scan_labels::{draw_scan_labels, place_scan_labels, ScanLabels};
 use super::step::{window_info, Window};
 use super::targets::{draw_sight_lines, draw_targets};
 use super::team::child_look;
+use super::upright::upright;
 use super::RenderError;
 
 /// Metres of map shown around what the episode knows.
@@ -85,7 +86,7 @@ pub fn render_episode_pictures(
     if normal.labels.omitted == 0 {
         return Ok((png, None));
     }
-    let view = normal.window.geometry(truth.geometry());
+    let view = normal.window.geometry(upright(truth).geometry());
     drop(normal);
     let mut best: Option<EpisodeFigure> = None;
     for (zoom, _) in large_layouts(&view) {
@@ -173,9 +174,13 @@ pub(super) fn draw_episode_figure(
     title: &str,
     zoom: usize,
 ) -> Result<EpisodeFigure, RenderError> {
+    // Drawn with world +x right and +y up (a grid turned by quarter turns is
+    // re-indexed; every overlay is in world coordinates).
+    let truth = upright(truth);
+    let knowledge = episode.knowledge.as_ref().map(upright);
     let g = *truth.geometry();
     check_geometry(&g)?;
-    let classes = classes(truth, episode)?;
+    let classes = classes(&truth, knowledge.as_deref(), episode)?;
     let window = crop_window(
         &g,
         classes
@@ -301,9 +306,13 @@ pub(super) fn draw_episode_figure(
 /// What every cell of the grid shows: the knowledge map's state, with never-seen
 /// cells split by the coverage tracker into missed, missed wall and out of reach;
 /// the ground truth without a knowledge map.
-fn classes(truth: &OccupancyGrid, episode: &Episode) -> Result<Vec<Class>, RenderError> {
+fn classes(
+    truth: &OccupancyGrid,
+    knowledge: Option<&OccupancyGrid>,
+    episode: &Episode,
+) -> Result<Vec<Class>, RenderError> {
     let g = *truth.geometry();
-    let Some(k) = episode.knowledge.as_ref() else {
+    let Some(k) = knowledge else {
         return Ok(truth.cells().iter().map(|&s| Class::of(s)).collect());
     };
     if (k.width(), k.height()) != (g.width, g.height) {

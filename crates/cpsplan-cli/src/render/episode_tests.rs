@@ -269,18 +269,37 @@ fn children_are_drawn_apart_and_the_legend_lists_what_is_drawn() {
     assert!(!fig.legend.iter().any(|l| l.starts_with("subgoal")));
 }
 
+/// A map turned by a half turn (ROS yaw π, or the Stata basement's 3.14) is
+/// drawn as RViz shows it: world x growing to the right, y upwards; only what
+/// is left of the yaw after the quarter turns earns a compass. A yaw far from
+/// every quarter turn keeps the grid's frame and the compass.
 #[test]
-fn rotated_grids_get_a_compass_and_keep_round_ticks() {
-    let mut truth = rooms_in_rock();
-    let mut g = *truth.geometry();
-    g.yaw = std::f64::consts::PI;
-    g.origin = Point::new(30.0, 25.0);
-    truth = OccupancyGrid::from_cells(g, truth.cells().to_vec()).expect("same size");
-    let start = g.cell_center(cpsplan::Cell::new(215, 200));
-    let ep = explore(&truth, start, 0);
-    let fig = figure(&truth, &ep);
-    assert!(fig.axes.rotated);
-    let values: Vec<f64> = fig.axes.bottom.1.iter().map(|t| t.value).collect();
-    assert!(values.windows(2).all(|w| w[1] < w[0]), "{values:?}");
-    assert!(values.iter().all(|v| v % fig.axes.step == 0.0));
+fn quarter_turned_grids_are_drawn_upright_and_others_get_a_compass() {
+    for (yaw, upright, compass) in [
+        (std::f64::consts::PI, true, false),
+        (std::f64::consts::PI - 0.0016, true, true),
+        (std::f64::consts::FRAC_PI_2, true, false),
+        (0.7, false, true),
+    ] {
+        let mut truth = rooms_in_rock();
+        let mut g = *truth.geometry();
+        g.yaw = yaw;
+        g.origin = Point::new(30.0, 25.0);
+        truth = OccupancyGrid::from_cells(g, truth.cells().to_vec()).expect("same size");
+        let start = g.cell_center(cpsplan::Cell::new(215, 200));
+        let ep = explore(&truth, start, 0);
+        let fig = figure(&truth, &ep);
+        assert_eq!(fig.axes.rotated, compass, "yaw {yaw}");
+        let bottom: Vec<f64> = fig.axes.bottom.1.iter().map(|t| t.value).collect();
+        let left: Vec<f64> = fig.axes.left.1.iter().map(|t| t.value).collect();
+        assert!(bottom.iter().all(|v| v % fig.axes.step == 0.0));
+        if upright {
+            assert_eq!(fig.axes.bottom.0, super::axes::Coord::X, "yaw {yaw}");
+            assert!(
+                bottom.windows(2).all(|w| w[1] > w[0]),
+                "yaw {yaw}: {bottom:?}"
+            );
+            assert!(left.windows(2).all(|w| w[1] > w[0]), "yaw {yaw}: {left:?}");
+        }
+    }
 }

@@ -5,6 +5,7 @@ use cpsplan::{CellState, OccupancyGrid};
 use super::chrome::{Header, LegendItem, Swatch};
 use super::layout::{check_geometry, percent, Class, Frame};
 use super::palette;
+use super::upright::upright;
 use super::RenderError;
 
 /// Draws a plain preview of `grid` as PNG: free white, occupied near-black, unknown
@@ -14,6 +15,9 @@ pub fn render_map(grid: &OccupancyGrid, title: &str) -> Result<Vec<u8>, RenderEr
 }
 
 pub(super) fn draw_map(grid: &OccupancyGrid, title: &str) -> Result<Frame, RenderError> {
+    // World +x right and +y up ([`upright`]).
+    let grid = upright(grid);
+    let grid = grid.as_ref();
     let g = *grid.geometry();
     check_geometry(&g)?;
     let n = g.len();

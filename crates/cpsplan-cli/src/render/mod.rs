@@ -39,6 +39,7 @@ mod scan_labels;
 mod step;
 mod targets;
 mod team;
+pub(crate) mod upright;
 
 pub use self::bound::render_bound;
 pub use self::chart::{error_chart, percent, share_percent, Chart, Series, SERIES_COLOURS};

@@ -197,3 +197,16 @@ pub fn headless(chrome: &Path, profile: &Path) -> std::process::Command {
     .arg(format!("--user-data-dir={}", profile.display()));
     c
 }
+
+/// `v` with every float rounded as the report's files state them.
+pub fn tidied(v: &Value) -> Value {
+    match v {
+        Value::Number(n) if n.is_f64() => n
+            .as_f64()
+            .and_then(|f| serde_json::Number::from_f64(cpsplan_cli::formats::tidy::tidy(f)))
+            .map_or(Value::Null, Value::Number),
+        Value::Array(a) => Value::Array(a.iter().map(tidied).collect()),
+        Value::Object(o) => Value::Object(o.iter().map(|(k, v)| (k.clone(), tidied(v))).collect()),
+        other => other.clone(),
+    }
+}

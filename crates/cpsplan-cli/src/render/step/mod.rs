@@ -30,6 +30,7 @@ use self::scores::ScoreRange;
 use self::tint::tint;
 use super::chrome::{Header, Style};
 use super::layout::{check_geometry, world_to_grid_xy, Class, Frame, MapLayout};
+use super::upright::upright;
 use super::RenderError;
 
 pub(super) use self::{caption::window_info, window::Window};
@@ -174,6 +175,9 @@ pub(super) fn draw_step(
     config: &Config,
     title: &str,
 ) -> Result<StepFigure, RenderError> {
+    // World +x right and +y up ([`upright`]): the step's points are world points.
+    let knowledge = upright(knowledge);
+    let knowledge = knowledge.as_ref();
     let g = *knowledge.geometry();
     check_geometry(&g)?;
 
