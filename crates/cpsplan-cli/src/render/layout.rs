@@ -4,6 +4,7 @@
 
 use cpsplan::{CellState, GridGeometry, Point};
 
+use super::axes::Axes;
 use super::canvas::{Canvas, Rect, Rgb};
 use super::chrome::{Footer, Header, Style};
 use super::palette;
@@ -216,7 +217,8 @@ pub(crate) struct Frame {
 }
 
 impl Frame {
-    /// Lays the picture out around a map of `geometry` and draws header and footer.
+    /// Lays the picture out around a map of `geometry` and draws header, world
+    /// axes and footer.
     pub fn new(geometry: &GridGeometry, header: &Header<'_>) -> Result<Self, RenderError> {
         Self::with_info(geometry, header, geometry_info(geometry))
     }
@@ -230,7 +232,10 @@ impl Frame {
     ) -> Result<Self, RenderError> {
         let layout = MapLayout::new(geometry);
         let style = Style::for_map(layout.width_px.max(layout.height_px));
-        let mut frame = Self::unheaded(layout, style, header, info, Gutters::default())?;
+        // World axes in metres around the map, as on the episode's picture.
+        let axes = Axes::of(&layout, style);
+        let mut frame = Self::unheaded(layout, style, header, info, axes.gutters(style))?;
+        axes.draw(&mut frame.canvas, style, &frame.layout);
         header.draw(&mut frame.canvas, style);
         Ok(frame)
     }

@@ -176,6 +176,45 @@ fn map_preview_colours_and_size() {
     assert!(close(px(Cell::new(5, 5)), palette::UNKNOWN, 0));
 }
 
+/// The map preview (and so `grid --preview`, `bound` and the step figures,
+/// which share its frame) carries world axes: a tick under the map's bottom
+/// edge at a round x, and one left of its left edge at a round y, a world
+/// quarter turn included.
+#[test]
+fn previews_carry_world_axes() {
+    for yaw in [0.0, std::f64::consts::PI] {
+        let mut g = GridGeometry::new(100, 80, 0.1, Point::new(0.0, 0.0));
+        g.yaw = yaw;
+        let grid = OccupancyGrid::filled(g, CellState::Free);
+        let frame = draw_map(&grid, "axes").unwrap();
+        let l = frame.layout;
+        let pic = &frame.canvas.pixmap;
+        let (min_x, min_y) = if yaw == 0.0 {
+            (0.0, 0.0)
+        } else {
+            (-10.0, -8.0)
+        };
+        let (x, _) = l.world_to_px(Point::new(min_x + 4.0, min_y + 1.0));
+        let (_, y) = l.world_to_px(Point::new(min_x + 1.0, min_y + 4.0));
+        let below = (l.y0 + l.height_px + 3) as f32;
+        let left = (l.x0 - 3) as f32;
+        assert!(
+            near(pic, x, below, 2, palette::MUTED_TEXT),
+            "yaw {yaw}: no x tick"
+        );
+        assert!(
+            near(pic, left, y, 2, palette::MUTED_TEXT),
+            "yaw {yaw}: no y tick"
+        );
+        // World x grows to the right, y upwards.
+        let (a, b) = (
+            l.world_to_px(Point::new(min_x + 1.0, min_y + 1.0)),
+            l.world_to_px(Point::new(min_x + 2.0, min_y + 2.0)),
+        );
+        assert!(b.0 > a.0 && b.1 < a.1, "yaw {yaw}: {a:?} {b:?}");
+    }
+}
+
 #[test]
 fn huge_grids_are_reduced_and_keep_thin_walls() {
     let g = GridGeometry::new(6000, 90, 0.05, Point::default());
