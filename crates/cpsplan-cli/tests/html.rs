@@ -2,30 +2,12 @@
 //! checked in headless Chromium where it is installed: the page renders the
 //! map, and stepping through the scans changes it.
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
-use assert_cmd::Command;
 use serde_json::Value;
 
 mod common;
-use common::{chromium, headless};
-
-fn page(dir: &Path, scans: &str) -> (PathBuf, String) {
-    page_with(dir, scans, &[])
-}
-
-fn page_with(dir: &Path, scans: &str, extra: &[&str]) -> (PathBuf, String) {
-    Command::cargo_bin("cpsplan")
-        .expect("binary built")
-        .args(["explore", "-q", "--html", "--max-scans", scans, "--out"])
-        .arg(dir)
-        .args(extra)
-        .assert()
-        .success();
-    let path = dir.join("report.html");
-    let html = std::fs::read_to_string(&path).expect("report.html");
-    (path, html)
-}
+use common::{body_after_scripts, chromium, explore_page, headless, two_planner_report};
 
 fn data(html: &str) -> Value {
     let open = "<script id=\"data\" type=\"application/json\">";
@@ -37,7 +19,7 @@ fn data(html: &str) -> Value {
 #[test]
 fn the_page_is_self_contained_and_holds_every_scan() {
     let tmp = tempfile::tempdir().unwrap();
-    let (_, html) = page(&tmp.path().join("out"), "6");
+    let (_, html) = explore_page(&tmp.path().join("out"), "6", &[]);
     for remote in ["src=\"http", "href=\"http", "url(http", "import(", "fetch("] {
         assert!(
             !html.contains(remote),
@@ -108,7 +90,7 @@ fn chromium_renders_the_map_and_stepping_changes_it() {
         return;
     };
     let tmp = tempfile::tempdir().unwrap();
-    let (path, _) = page(&tmp.path().join("out"), "8");
+    let (path, _) = explore_page(&tmp.path().join("out"), "8", &[]);
     let url = |hash: &str| format!("file://{}#{hash}", path.display());
     let run = |args: &[String]| {
         let out = headless(&chrome, &tmp.path().join("profile"))
@@ -155,7 +137,7 @@ fn chromium_renders_the_map_and_stepping_changes_it() {
 #[test]
 fn chromium_draws_the_targets_and_their_measurements() {
     let tmp = tempfile::tempdir().unwrap();
-    let (path, html) = page_with(&tmp.path().join("out"), "10", &["--place-targets", "5"]);
+    let (path, html) = explore_page(&tmp.path().join("out"), "10", &["--place-targets", "5"]);
     let d = data(&html);
     let targets = d["targets"].as_array().unwrap();
     assert!(!targets.is_empty() && targets[0]["name"] == "P1" && targets[0]["kind"] == "placed");
@@ -199,46 +181,10 @@ fn chromium_plays_an_experiments_episodes_in_its_report() {
         return;
     };
     let tmp = tempfile::tempdir().unwrap();
-    let spec = tmp.path().join("two.toml");
-    std::fs::write(
-        &spec,
-        "name = \"two\"\nmaps = [\"builtin:site\"]\nplanners = [\"paper\", \"gain\"]\n\
-         [base]\nmission.max_scans = 6\n",
-    )
-    .unwrap();
-    let out = tmp.path().join("run");
-    for args in [
-        vec![
-            "experiment",
-            spec.to_str().unwrap(),
-            "--html",
-            "-q",
-            "--out",
-        ],
-        vec!["report", "-q"],
-    ] {
-        Command::cargo_bin("cpsplan")
-            .expect("binary built")
-            .args(args)
-            .arg(&out)
-            .assert()
-            .success();
-    }
-    let path = out.join("report/report.html");
+    let path = two_planner_report(tmp.path(), 6, true);
     let dom = |hash: &str| {
-        let out = headless(&chrome, &tmp.path().join("profile"))
-            .args([
-                "--window-size=1400,1000",
-                "--virtual-time-budget=20000",
-                "--dump-dom",
-            ])
-            .arg(format!("file://{}#{hash}", path.display()))
-            .output()
-            .expect("chromium runs");
-        assert!(out.status.success());
-        let dom = String::from_utf8_lossy(&out.stdout).into_owned();
-        let body = dom.find("<body").expect("a body");
-        dom[body..body + dom[body..].find('>').unwrap()].to_string()
+        let url = format!("file://{}#{hash}", path.display());
+        body_after_scripts(&chrome, &tmp.path().join("profile"), &url)
     };
     let first = dom("");
     assert!(first.contains("data-player-ready=\"1\""), "{first}");

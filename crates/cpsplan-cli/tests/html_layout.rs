@@ -2,44 +2,8 @@
 //! it is not installed): what a reader needs is on the first screen, without
 //! scrolling either way.
 
-use std::path::Path;
-
 mod common;
-use common::{chromium, cpsplan, headless};
-
-/// The `<body …>` tag of `url` after its scripts ran, in a 1400 × 1000 window.
-fn body_after_scripts(chrome: &Path, profile: &Path, url: &str) -> String {
-    let out = headless(chrome, profile)
-        .args([
-            "--window-size=1400,1000",
-            "--virtual-time-budget=20000",
-            "--allow-file-access-from-files",
-            "--dump-dom",
-        ])
-        .arg(url)
-        .output()
-        .expect("chromium runs");
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let dom = String::from_utf8_lossy(&out.stdout).into_owned();
-    let body = dom.find("<body").expect("a body");
-    dom[body..body + dom[body..].find('>').expect("a whole tag")].to_string()
-}
-
-/// The number in `attr="…"` of `tag`.
-fn attr(tag: &str, attr: &str) -> f64 {
-    let key = format!("{attr}=\"");
-    let at = tag
-        .find(&key)
-        .unwrap_or_else(|| panic!("no {attr} in {tag}"))
-        + key.len();
-    tag[at..at + tag[at..].find('"').expect("closed")]
-        .parse()
-        .unwrap_or_else(|_| panic!("{attr} in {tag}"))
-}
+use common::{attr, body_after_scripts, chromium, explore_page, two_planner_report};
 
 /// `explore --html`: the legend and this scan's table (the final σ at the last
 /// scan) end above the window's bottom; the map is fitted to what is known and
@@ -52,22 +16,8 @@ fn the_explore_page_shows_its_legend_and_final_error_on_the_first_screen() {
         return;
     };
     let tmp = tempfile::tempdir().unwrap();
-    let out = tmp.path().join("run");
-    cpsplan()
-        .args([
-            "explore",
-            "-q",
-            "--html",
-            "--builtin",
-            "office",
-            "--max-scans",
-            "12",
-        ])
-        .arg("--out")
-        .arg(&out)
-        .assert()
-        .success();
-    let url = format!("file://{}", out.join("report.html").display());
+    let (page, _) = explore_page(&tmp.path().join("run"), "12", &["--builtin", "office"]);
+    let url = format!("file://{}", page.display());
     let body = body_after_scripts(&chrome, &tmp.path().join("profile"), &url);
     assert!(body.contains("data-ready=\"1\""), "{body}");
     let legend = attr(&body, "data-legend-bottom");
@@ -107,15 +57,9 @@ fn a_long_map_name_does_not_widen_the_page() {
         text.replace("[0.0, 0.0, 0.0]", "[0.0, 0.0, 1.5707963]"),
     )
     .unwrap();
-    let out = tmp.path().join("run");
-    cpsplan()
-        .args(["explore", "-q", "--html", "--max-scans", "3", "--map"])
-        .arg(&yaml)
-        .arg("--out")
-        .arg(&out)
-        .assert()
-        .success();
-    let url = format!("file://{}", out.join("report.html").display());
+    let map = yaml.to_str().expect("UTF-8 path");
+    let (page, _) = explore_page(&tmp.path().join("run"), "3", &["--map", map]);
+    let url = format!("file://{}", page.display());
     let body = body_after_scripts(&chrome, &tmp.path().join("profile"), &url);
     assert!(body.contains("data-ready=\"1\""), "{body}");
     assert_eq!(
@@ -134,22 +78,8 @@ fn the_experiment_report_shows_the_whole_headline_table() {
         return;
     };
     let tmp = tempfile::tempdir().unwrap();
-    let spec = tmp.path().join("two.toml");
-    std::fs::write(
-        &spec,
-        "name = \"two\"\nmaps = [\"builtin:site\"]\nplanners = [\"paper\", \"gain\"]\n\
-         [base]\nmission.max_scans = 4\n",
-    )
-    .unwrap();
-    let out = tmp.path().join("run");
-    for args in [
-        vec!["experiment", spec.to_str().unwrap(), "-q", "--out"],
-        vec!["report", "-q"],
-    ] {
-        cpsplan().args(args).arg(&out).assert().success();
-    }
+    let report = two_planner_report(tmp.path(), 4, false);
     // The report inside a frame of the window's size, measured from outside.
-    let report = out.join("report/report.html");
     let probe = tmp.path().join("probe.html");
     std::fs::write(
         &probe,

@@ -92,7 +92,8 @@ impl PageRecorder {
     pub fn record(&mut self, step: &Step, knowledge: &OccupancyGrid, config: &Config) {
         let scan = u16::try_from(step.scan).unwrap_or(u16::MAX);
         for (i, &c) in knowledge.cells().iter().enumerate() {
-            let seen = &mut self.first_seen[self.to_page.as_ref().map_or(i, |t| t[i])];
+            let page = self.page_index(i);
+            let seen = &mut self.first_seen[page];
             if *seen == 0 && c != CellState::Unknown {
                 *seen = scan;
             }

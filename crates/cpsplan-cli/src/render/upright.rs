@@ -35,20 +35,14 @@ fn turned(g: &GridGeometry, k: u8) -> (GridGeometry, impl Fn(usize, usize) -> Ce
     let (s, c) = yaw.sin_cos();
     // The new origin: a corner of the old grid, in world coordinates.
     let rot = |x: f64, y: f64| Point::new(g.origin.x + c * x - s * y, g.origin.y + s * x + c * y);
+    let (wm, hm) = (w as f64 * res, h as f64 * res);
     let (new_w, new_h, origin) = match k {
         // World = O + R(yaw′)·(−y, x): the new x runs along the old −y.
-        1 => (h, w, rot(-(h as f64) * res, 0.0)),
-        2 => {
-            let (s0, c0) = g.yaw.sin_cos();
-            let (x, y) = (w as f64 * res, h as f64 * res);
-            (
-                w,
-                h,
-                Point::new(g.origin.x + c0 * x - s0 * y, g.origin.y + s0 * x + c0 * y),
-            )
-        }
+        1 => (h, w, rot(-hm, 0.0)),
+        // World = O + R(yaw′)·(−x, −y): the old far corner is the new origin.
+        2 => (w, h, rot(-wm, -hm)),
         // World = O + R(yaw′)·(y, −x): the new y runs along the old −x.
-        _ => (h, w, rot(0.0, -(w as f64) * res)),
+        _ => (h, w, rot(0.0, -wm)),
     };
     let geometry = GridGeometry {
         width: new_w,

@@ -210,3 +210,83 @@ pub fn tidied(v: &Value) -> Value {
         other => other.clone(),
     }
 }
+
+/// `explore --html --max-scans SCANS` into `dir` with `extra` flags: the
+/// page's path and its text.
+pub fn explore_page(dir: &Path, scans: &str, extra: &[&str]) -> (PathBuf, String) {
+    cpsplan()
+        .args(["explore", "-q", "--html", "--max-scans", scans, "--out"])
+        .arg(dir)
+        .args(extra)
+        .assert()
+        .success();
+    let path = dir.join("report.html");
+    let html = std::fs::read_to_string(&path).expect("report.html");
+    (path, html)
+}
+
+/// An experiment of the paper's and the gain planner on the site, up to
+/// `scans` scans (`--html`: with its episodes' pages), and its report, in
+/// `dir`; the report page's path.
+pub fn two_planner_report(dir: &Path, scans: usize, html: bool) -> PathBuf {
+    let spec = dir.join("two.toml");
+    std::fs::write(
+        &spec,
+        format!(
+            "name = \"two\"\nmaps = [\"builtin:site\"]\nplanners = [\"paper\", \"gain\"]\n\
+             [base]\nmission.max_scans = {scans}\n"
+        ),
+    )
+    .expect("write");
+    let out = dir.join("run");
+    let mut experiment = cpsplan();
+    experiment
+        .arg("experiment")
+        .arg(&spec)
+        .args(["-q", "--out"])
+        .arg(&out);
+    if html {
+        experiment.arg("--html");
+    }
+    experiment.assert().success();
+    cpsplan()
+        .args(["report", "-q"])
+        .arg(&out)
+        .assert()
+        .success();
+    out.join("report/report.html")
+}
+
+/// The `<body …>` tag of `url` after its scripts ran, in a 1400 × 1000 window.
+pub fn body_after_scripts(chrome: &Path, profile: &Path, url: &str) -> String {
+    let out = headless(chrome, profile)
+        .args([
+            "--window-size=1400,1000",
+            "--virtual-time-budget=20000",
+            "--allow-file-access-from-files",
+            "--dump-dom",
+        ])
+        .arg(url)
+        .output()
+        .expect("chromium runs");
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let dom = String::from_utf8_lossy(&out.stdout).into_owned();
+    let body = dom.find("<body").expect("a body");
+    dom[body..body + dom[body..].find('>').expect("a whole tag")].to_string()
+}
+
+/// The number in `attr="…"` of `tag`.
+pub fn attr(tag: &str, attr: &str) -> f64 {
+    let key = format!("{attr}=\"");
+    let at = tag
+        .find(&key)
+        .unwrap_or_else(|| panic!("no {attr} in {tag}"))
+        + key.len();
+    tag[at..at + tag[at..].find('"').expect("closed")]
+        .parse()
+        .unwrap_or_else(|_| panic!("{attr} in {tag}"))
+}

@@ -184,12 +184,13 @@ pub(super) fn write_model_cloud(
 ) -> Result<(TempFile, TempFile)> {
     let mut stations = model.stations.clone();
     if let Some(f) = frame {
+        let to_source = f.placer();
         for p in points.iter_mut() {
-            p.position = f.to_source(p.position);
+            p.position = to_source(p.position);
         }
         for s in &mut stations {
-            s.truth = f.to_source(s.truth);
-            s.estimate = f.to_source(s.estimate);
+            s.truth = to_source(s.truth);
+            s.estimate = to_source(s.estimate);
         }
     }
     let crs = frame.and_then(|f| f.crs.as_ref());

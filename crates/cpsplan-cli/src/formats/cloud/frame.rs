@@ -92,9 +92,9 @@ pub const CRS_USER_ID: &str = "LASF_Projection";
 
 impl SourceCrs {
     /// The coordinate-system records among `vlrs` (`None` when there are none).
-    pub fn of(vlrs: &[::las::Vlr], wkt: bool) -> Option<Self> {
+    pub fn of<'a>(vlrs: impl IntoIterator<Item = &'a ::las::Vlr>, wkt: bool) -> Option<Self> {
         let records: Vec<CrsRecord> = vlrs
-            .iter()
+            .into_iter()
             .filter(|v| v.user_id == CRS_USER_ID && v.data.len() <= usize::from(u16::MAX))
             .map(|v| CrsRecord {
                 record_id: v.record_id,
@@ -161,9 +161,32 @@ impl FrameGround {
     /// The ground's height under map point `(x, y)`: for cells, the nearest
     /// cell's within the grid that has one, else the mean of all.
     pub fn height(&self, x: f64, y: f64) -> f64 {
+        self.height_near(x, y).unwrap_or_else(|| self.mean())
+    }
+
+    /// The mean height of the cells that have one (0 without cells): where a
+    /// point has no cell with a height near it.
+    pub fn mean(&self) -> f64 {
+        let FrameGround::Cells { heights, .. } = self else {
+            return 0.0;
+        };
+        let (sum, n) = heights
+            .iter()
+            .flatten()
+            .fold((0.0, 0usize), |(s, n), h| (s + h, n + 1));
+        if n == 0 {
+            0.0
+        } else {
+            sum / n as f64
+        }
+    }
+
+    /// The ground's height under `(x, y)`; for cells, the lowest within a few
+    /// rings of the nearest cell, `None` when none has a height.
+    fn height_near(&self, x: f64, y: f64) -> Option<f64> {
         match self {
-            FrameGround::Flat => 0.0,
-            FrameGround::Plane { a, b, c, at } => a * (x - at[0]) + b * (y - at[1]) + c,
+            FrameGround::Flat => Some(0.0),
+            FrameGround::Plane { a, b, c, at } => Some(a * (x - at[0]) + b * (y - at[1]) + c),
             FrameGround::Cells {
                 origin,
                 resolution,
@@ -187,16 +210,11 @@ impl FrameGround {
                             }
                         }
                     }
-                    if let Some(h) = best {
-                        return h;
+                    if best.is_some() {
+                        return best;
                     }
                 }
-                let known: Vec<f64> = heights.iter().flatten().copied().collect();
-                if known.is_empty() {
-                    0.0
-                } else {
-                    known.iter().sum::<f64>() / known.len() as f64
-                }
+                None
             }
         }
     }
@@ -206,11 +224,21 @@ impl SourceFrame {
     /// Where map point `p` (metres, `z` above the ground) lies in the source
     /// cloud's own coordinates and units.
     pub fn to_source(&self, p: [f64; 3]) -> [f64; 3] {
-        let z = p[2] + self.ground.height(p[0], p[1]);
+        self.placer()(p)
+    }
+
+    /// [`Self::to_source`] for many points: the ground's mean (for points
+    /// with no height near them) taken once.
+    pub fn placer(&self) -> impl Fn([f64; 3]) -> [f64; 3] + '_ {
+        let mean = self.ground.mean();
         let [tx, ty, yaw] = self.transform;
-        let back = PlanarTransform { tx, ty, yaw }.unapply([p[0], p[1], z]);
+        let transform = PlanarTransform { tx, ty, yaw };
         let [h, v] = self.metres_per_unit;
-        [back[0] / h, back[1] / h, back[2] / v]
+        move |p| {
+            let ground = self.ground.height_near(p[0], p[1]).unwrap_or(mean);
+            let back = transform.unapply([p[0], p[1], p[2] + ground]);
+            [back[0] / h, back[1] / h, back[2] / v]
+        }
     }
 
     /// Whether map coordinates are the source's own (metres, no transform, no
@@ -344,9 +372,9 @@ mod tests {
             description: String::new(),
             data: vec![9; 4],
         };
-        let crs = SourceCrs::of(&[vlr.clone(), other], false).unwrap();
+        let crs = SourceCrs::of([&vlr, &other], false).unwrap();
         assert_eq!(crs.records.len(), 1);
         assert_eq!(crs.vlrs().unwrap(), vec![vlr]);
-        assert!(SourceCrs::of(&[], false).is_none());
+        assert!(SourceCrs::of([], false).is_none());
     }
 }

@@ -81,13 +81,10 @@ pub(crate) fn read<S: Source>(
         }
     }
     let (factors, notes) = conversion(FileUnits::of(&header), options.units);
-    let crs_records: Vec<::las::Vlr> = header
-        .vlrs()
-        .iter()
-        .chain(header.evlrs())
-        .cloned()
-        .collect();
-    let crs = SourceCrs::of(&crs_records, header.has_wkt_crs());
+    let crs = SourceCrs::of(
+        header.vlrs().iter().chain(header.evlrs()),
+        header.has_wkt_crs(),
+    );
     drop(r);
     let open = || open_reader(source, patch);
 
