@@ -6,19 +6,27 @@ from .common import mean, mean_sd, median, source
 from .experiments import by_map_and, experiment, maps_in, scans_to, summary, with_spots
 
 
+BUILTIN = {"office", "site", "tunnel", "building"}
+
+
+def called(m):
+    """A map as the text names it: `the office`, `intel_lab`."""
+    return f"the {m}" if m in BUILTIN else m
+
+
 def places(maps, every):
     """`every map`, `the office and the site`, `no map`."""
     if not maps:
         return "no map"
     if len(maps) == len(every):
         return "every map"
-    names = [f"the {m}" for m in maps]
+    names = [called(m) for m in maps]
     return names[0] if len(names) == 1 else ", ".join(names[:-1]) + " and " + names[-1]
 
 
 def per_map(pairs):
     """`31 % on the office, 15 % on the site and 8 % on the tunnel`."""
-    parts = [f"{text} on the {m}" for m, text in pairs]
+    parts = [f"{text} on {called(m)}" for m, text in pairs]
     return parts[0] if len(parts) == 1 else ", ".join(parts[:-1]) + " and " + parts[-1]
 
 

@@ -101,7 +101,7 @@ class Documents(unittest.TestCase):
         done = self.check("Scans:\n<!--=alpha-beta.fewer_where-->every map<!--/--> here.\n",
                           {"fewer_where": "every map"})
         self.assertEqual(done.returncode, 1)
-        self.assertIn("begins a line", done.stdout)
+        self.assertIn("begins a line", done.stderr)
 
 
 if __name__ == "__main__":

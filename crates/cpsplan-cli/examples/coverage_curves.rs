@@ -1,5 +1,5 @@
 //! Draws coverage against scans for explored reports: the curve that the stop
-//! rule's defaults are chosen on (docs/RESULTS.md "Gain and stop").
+//! rule's defaults are chosen on (docs/HISTORY.md "Gain and stop").
 //!
 //! `cargo run --release -p cpsplan-cli --example coverage_curves -- OUT.png
 //! "TITLE" LABEL=REPORT_DIR...` (each report's `metrics.csv`).

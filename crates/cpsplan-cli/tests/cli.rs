@@ -468,7 +468,7 @@ fn shared_real_maps_are_explored() {
 /// The largest shared map (275 m × 221 m outdoors, 2 000 scans), in a test of its
 /// own so that it runs beside the others. The parent alone here: with children
 /// the run takes several minutes, too long for every test run
-/// (`scripts/shared-maps.sh` runs it with children; see docs/RESULTS.md).
+/// (`scripts/shared-maps.sh` runs it with children; see docs/HISTORY.md).
 #[test]
 fn shared_campus_map_is_explored() {
     let Some(dir) = shared_maps("shared_campus_map_is_explored") else {
