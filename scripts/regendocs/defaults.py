@@ -71,6 +71,14 @@ def defaults(tmp):
             for s in STRATEGIES) + " |")
 
     within = sorted((m for m, r in oracle_ratio.items() if r <= 1.25), key=maps.index)
+    # The best of all four explorers against the oracle, map by map.
+    best_over = []
+    for m in oracle_ratio:
+        ratios = {p: median(to99(m, p)) / median(to99(m, "oracle")) for p in PLANNERS[:-1] if to99(m, p)}
+        p = min(ratios, key=ratios.get)
+        if ratios[p] > 1.25:
+            best_over.append(f"{m} {ratios[p]:.2f} (`{'tour' if p == 'default' else p}`)")
+    oracle_short = [m for m in maps if len(to99(m, "oracle")) < len(groups[m, "oracle"])]
     worst = max(oracle_ratio, key=oracle_ratio.get)
 
     # The child strategies: where they scan, their hours and their accuracy.
@@ -109,6 +117,9 @@ def defaults(tmp):
         "within": count(len(within)),
         "within_where": places(within, maps) if within else "none",
         "oracle_worst": f"{worst}, {oracle_ratio[worst]:.2f}",
+        "best_over_count": count(len(best_over)),
+        "best_over": ", ".join(best_over) if best_over else "none",
+        "oracle_short": places(oracle_short, maps) if oracle_short else "no map",
         "floor_share": ratio_range(list(floor_share.values()), 2),
         "floors_met": count(sum(1 for v in floor_share.values() if v <= 0.8)),
         "drives_least": count(len(drives_least)),

@@ -47,17 +47,67 @@ def site_paper(tmp):
 
 
 
-@source("cloud-out", "`explore --monte-carlo 20 --cloud-out`: the site's registered 3D model, open and with targets")
+def model_rows(path):
+    """model.csv: one row per scan, as dicts of floats."""
+    lines = Path(path).read_text().strip().split("\n")
+    head = lines[0].split(",")
+    return [dict(zip(head, map(float, line.split(",")))) for line in lines[1:]]
+
+
+@source("cloud-out", "`explore --monte-carlo 20 --cloud-out`: the site's registered 3D model, open and with "
+        "targets, and in its true poses")
 def cloud_out(tmp):
     figures = {}
-    for key, extra in [("open", []), ("targets", ["--place-targets", "30", "--child-strategy", "min-error"])]:
-        run("explore", "-q", "--monte-carlo", "20", *extra, "--cloud-out", f"{key}.laz", "--out", key, cwd=tmp)
-        model = load(Path(tmp) / key / "summary.json")["model"]
+    rows = []
+    runs = [
+        ("open", ["--monte-carlo", "20"], "default site, smoothed poses of Monte Carlo run 1 (filtering poses)"),
+        ("targets", ["--monte-carlo", "20", "--place-targets", "30", "--child-strategy", "min-error"],
+         "`--place-targets 30 --child-strategy min-error`, smoothed (filtering)"),
+        ("true", [], "the same site, true poses (no `--monte-carlo`: range noise only, 2 mm + 2 ppm)"),
+    ]
+    for key, extra, label in runs:
+        run("explore", "-q", *extra, "--cloud-out", f"{key}.laz", "--out", key, cwd=tmp)
+        s = load(Path(tmp) / key / "summary.json")
+        model = s["model"]
         figures[f"{key}_points"] = count(model["points"])
         figures[f"{key}_mean_mm"] = mm(model["mean_distance_m"])
         figures[f"{key}_p95_mm"] = mm(model["p95_distance_m"])
-        figures[f"{key}_filtering_mean_mm"] = mm(model["filtering"]["mean_distance_m"])
-        figures[f"{key}_filtering_p95_mm"] = mm(model["filtering"]["p95_distance_m"])
+        if "filtering" in model:
+            f = model["filtering"]
+            figures[f"{key}_filtering_mean_mm"] = mm(f["mean_distance_m"])
+            figures[f"{key}_filtering_p95_mm"] = mm(f["p95_distance_m"])
+            cells = [f"{mm(model[k])} mm ({mm(f[k])})" for k in ["mean_distance_m", "p95_distance_m",
+                                                                "max_position_error_m"]]
+        else:
+            cells = [f"{mm(model['mean_distance_m'])} mm", f"{mm(model['p95_distance_m'])} mm", "0"]
+        rows.append(f"| {label} | {count(model['points'])} | {s['scans']} | " + " | ".join(cells) + " |")
+    figures["table"] = "\n".join([
+        "| | points | scans | mean distance to the walls | 95th percentile | largest pose error |",
+        "|---|---:|---:|---:|---:|---:|",
+        "| paper CPS-VII (Fig. 12) | 9.85 million | 26 | — | — | 98–116 mm 3D error after 181–343 m |",
+        "| paper CPS-VIII (Fig. 13) | 6.13 billion | 14+ | — | — | 23.1 mm after 270.1 m |",
+    ] + rows)
+    # How the open model's error grows along the chain (model.csv, per scan).
+    scans = model_rows(Path(tmp) / "open" / "model.csv")
+    first, last = scans[0], scans[len(scans) * 2 // 3:]
+
+    def span(key, scale=1000.0, places=0):
+        values = [abs(r[key]) * scale for r in last]
+        return f"{min(values):.{places}f}–{max(values):.{places}f}"
+
+    figures["first_mean_mm"] = mm(first["mean_distance_m"])
+    figures["first_p95_mm"] = mm(first["p95_distance_m"])
+    figures["last_scans"] = f"{int(last[0]['scan'])}–{int(last[-1]['scan'])}"
+    figures["last_mean_mm"] = span("mean_distance_m")
+    figures["last_pose_mm"] = span("position_error_m")
+    figures["last_heading"] = span("heading_error_arcsec", 1.0)  # as large, of either sign
+    # The same model as LAS and as LAZ.
+    run("explore", "-q", "--cloud-out", "true.las", "--out", "true-las", cwd=tmp)
+    ratio = (Path(tmp) / "true.las").stat().st_size / (Path(tmp) / "true.laz").stat().st_size
+    figures["laz_smaller"] = fixed(ratio, 0)
+    open_mean = load(Path(tmp) / "open" / "summary.json")["model"]["mean_distance_m"]
+    targets_mean = load(Path(tmp) / "targets" / "summary.json")["model"]["mean_distance_m"]
+    figures["targets_tighter"] = f"{open_mean / targets_mean:.1f}"
     return figures
 
 
@@ -149,8 +199,10 @@ def site_step(tmp):
         IMAGES: {"docs/images/step-figure-site.png": out / "step-007.png"},
     }
 
+READ_LINE = re.compile(r": (\d+) points read")
 MAP_LINE = re.compile(r"map: (\d+) × (\d+) cells of ([\d.]+) m .*?: (\d+) free, (\d+) occupied")
 GAPS_LINE = re.compile(r"([\d.]+) % of it is gaps")
+MENDS_LINE = re.compile(r"--resolution (\S+) leaves ([\d.]+) % gaps and (\d+) % in one piece")
 
 
 @source("clouds", "`grid --cloud` and `explore --map` on the four shared clouds", needs="clouds")
@@ -174,11 +226,15 @@ def clouds(tmp):
         if not m:
             sys.exit(f"regen-docs: clouds: no map line from grid on {cloud}:\n{said}")
         w, h, _, free, occupied = m.groups()
+        figures[f"{key}_points_read"] = count(READ_LINE.search(said).group(1))
         figures[f"{key}_cells"] = f"{w} × {h}"
         figures[f"{key}_free"] = count(free)
         figures[f"{key}_occupied"] = count(occupied)
         gaps = GAPS_LINE.search(said)
         figures[f"{key}_gaps"] = gaps.group(1) if gaps else "none"
+        mends = MENDS_LINE.search(said)
+        if mends:
+            figures[f"{key}_mend_resolution"], figures[f"{key}_mend_gaps"], figures[f"{key}_mend_piece"] = mends.groups()
         model = ["--cloud-out", f"{key}.las"] if key == "autzen" else []
         run("explore", "-q", "--map", f"{key}.yaml", *explore_flags, *model, "--out", f"{key}-out", cwd=tmp)
         if model:
