@@ -87,3 +87,30 @@ def timings(tmp):
     figures["km_refused_s"] = fixed(seconds, 1)
     figures["km_estimate_gb"] = fixed(int(MEMORY.search(said).group(1)) / 1000, 1)
     return figures
+
+
+@source("build", "the README's two commands from a clean target directory: the first build, the test build and "
+        "the test run (about a quarter of an hour on two cores)", heavy=True)
+def build(tmp):
+    """Times `cargo run --release -- explore`'s build, the test build and the
+    tests, as a new user meets them (a target directory of their own; the
+    crates already downloaded)."""
+    import os
+
+    env = dict(os.environ, CARGO_TARGET_DIR=str(Path(tmp) / "target"), CARGO_TERM_COLOR="never")
+
+    def cargo(*args):
+        start = time.monotonic()
+        done = subprocess.run(["cargo", *args], cwd=ROOT, env=env, capture_output=True, text=True)
+        if done.returncode != 0:
+            raise SystemExit(f"regen-docs: build: `cargo {' '.join(args)}` failed:\n{done.stderr[-2000:]}")
+        return time.monotonic() - start
+
+    first = cargo("build", "--release", "--locked")
+    tests_build = cargo("test", "--workspace", "--release", "--locked", "--no-run")
+    tests_run = cargo("test", "--workspace", "--release", "--locked")
+    return {
+        "first_min": f"{first / 60:.0f}",
+        "tests_build_min": f"{tests_build / 60:.0f}",
+        "tests_run_min": f"{tests_run / 60:.0f}",
+    }

@@ -3,7 +3,7 @@
 //! the value parsers they share are in [`crate::args`].
 
 use anyhow::Result;
-use clap::{Parser, Subcommand};
+use clap::{CommandFactory, Parser, Subcommand};
 
 use crate::commands;
 use crate::commands::{bound, experiment, explore, grid, maps, plan, report};
@@ -149,6 +149,6 @@ where
         #[cfg(feature = "ros")]
         Command::Ros(args) => commands::campaign::live::run(&args),
         Command::Config => commands::defaults::print_config(),
-        Command::Completions(args) => commands::completions::run(&args),
+        Command::Completions(args) => commands::completions::run(&args, Cli::command()),
     }
 }

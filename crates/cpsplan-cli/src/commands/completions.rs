@@ -2,10 +2,8 @@
 //! flag, generated from the command line's own definition.
 
 use anyhow::Result;
-use clap::{Args, CommandFactory};
+use clap::Args;
 use clap_complete::Shell;
-
-use crate::cli::Cli;
 
 /// Options of `cpsplan completions`.
 #[derive(Debug, Args)]
@@ -15,9 +13,9 @@ pub struct CompletionsArgs {
     pub shell: Shell,
 }
 
-/// Prints the completions script for `args.shell`.
-pub fn run(args: &CompletionsArgs) -> Result<()> {
-    let mut command = Cli::command();
+/// Prints the completions script for `args.shell` of `command`, the whole
+/// command line (given by `cli`, so that no command imports it back).
+pub fn run(args: &CompletionsArgs, mut command: clap::Command) -> Result<()> {
     clap_complete::generate(args.shell, &mut command, "cpsplan", &mut std::io::stdout());
     Ok(())
 }
