@@ -91,3 +91,24 @@ fn help_names_no_file_of_the_sources() {
         assert!(!help.contains("docs/"), "cpsplan {c} --help: {help}");
     }
 }
+
+/// `cpsplan … | head` closes the pipe before the command has printed all: the
+/// command ends quietly with 141 (128 + SIGPIPE, what a shell shows), not with
+/// a panic and its backtrace. A pipe whose reader is already closed makes the
+/// first write fail, whatever the timing.
+#[test]
+fn a_closed_output_pipe_ends_quietly() {
+    for args in [vec!["config"], vec!["instruments"], vec!["maps", "--json"]] {
+        let (reader, writer) = std::io::pipe().unwrap();
+        drop(reader);
+        let out = std::process::Command::new(env!("CARGO_BIN_EXE_cpsplan"))
+            .args(&args)
+            .env("RUST_BACKTRACE", "1")
+            .stdout(writer)
+            .output()
+            .unwrap();
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(141), "{args:?}: {stderr}");
+        assert!(stderr.is_empty(), "{args:?} printed: {stderr}");
+    }
+}
