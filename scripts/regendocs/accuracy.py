@@ -4,20 +4,10 @@
 
 from pathlib import Path
 
-from .common import fixed, load, median, run, source
+from .common import fixed, load, median, run, source, thetas
 
 MAPS = ["site", "office", "tunnel"]
 STRATEGIES = [("balanced", "balanced (the paper's)"), ("min-error", "min-error")]
-
-
-def thetas(episode):
-    return [
-        child["theta_deg"]
-        for step in episode["steps"]
-        for cycle in (step.get("move") or {}).get("cycles") or []
-        for child in cycle["children"]
-        if not child["stays"] and child.get("theta_deg") is not None
-    ]
 
 
 def share(s):

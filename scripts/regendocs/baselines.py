@@ -3,12 +3,17 @@ known-map bound (`experiments/baselines.toml`): RESULTS' baselines section."""
 
 from pathlib import Path
 
-from .common import IMAGES, median, median_range, ratio_range, run, source
-from .experiments import CONTEXT, experiment, grouped, map_name, maps_in, scans_to, summary, with_spots
-from .paper import per_map, places
+from .common import IMAGES, median, median_range, per_map, places, ratio_range, run, source
+from .experiments import CONTEXT, experiment, grouped, map_name, maps_in, reached, scans_to, summary, with_spots
 
 NAMES = {"paper": "the paper's planner", "tour": "the tour", "frontier": "explore_lite's nearest frontier",
          "gain": "pure gain"}
+
+
+def per_greedy(records, share):
+    """Each episode's scans to `share` over its layout's greedy stations for it."""
+    return [scans_to(r, share) / greedy_stations(r, share) for r in records
+            if scans_to(r, share) is not None and greedy_stations(r, share)]
 
 
 def greedy_stations(record, share):
@@ -38,21 +43,16 @@ def baselines(tmp):
     for m in maps:
         for p in planners:
             team, single = groups[m, p, "team"], groups[m, p, "single"]
-            to99 = [t for t in (scans_to(r, 0.99) for r in team) if t is not None]
             rows.append(
-                f"| {m} | {p} | {median_range(to99, 0)} | {median_range([summary(r)['scans'] for r in team], 0)} "
+                f"| {m} | {p} | {median_range(reached(team, 0.99), 0)} | {median_range([summary(r)['scans'] for r in team], 0)} "
                 f"| {median_range([summary(r)['parent_travel_m'] for r in team], 0)} "
                 f"| {median_range([summary(r)['campaign_time_h'] for r in team], 2)} "
                 f"| {median_range([summary(r)['final_position_sigma_m'] * 1000 for r in team], 0)} "
                 f"| {median_range([summary(r)['parent_travel_m'] for r in single], 0)} "
                 f"| {median_range([summary(r)['campaign_time_h'] for r in single], 2)} |"
             )
-            per = {}
-            for share in [0.9, 0.99]:
-                per[share] = [scans_to(r, share) / greedy_stations(r, share) for r in team
-                              if scans_to(r, share) is not None and greedy_stations(r, share)]
             bound_rows.append(
-                f"| {m} | {p} | {median_range(per[0.9], 2)} | {median_range(per[0.99], 2)} "
+                f"| {m} | {p} | {median_range(per_greedy(team, 0.9), 2)} | {median_range(per_greedy(team, 0.99), 2)} "
                 f"| {median([greedy_stations(r, 0.99) for r in team]):.0f} |"
             )
 
@@ -78,7 +78,7 @@ def baselines(tmp):
     )
 
     def to99_median(m, p):
-        return median([t for t in (scans_to(r, 0.99) for r in groups[m, p, "team"]) if t is not None])
+        return median(reached(groups[m, p, "team"], 0.99))
 
     soonest = []
     soonest_drive = []
@@ -94,11 +94,7 @@ def baselines(tmp):
     best_per_greedy = {share: [] for share in (0.9, 0.99)}
     for share in best_per_greedy:
         for m in maps:
-            best_per_greedy[share].append(min(
-                median([scans_to(r, share) / greedy_stations(r, share) for r in groups[m, p, "team"]
-                        if scans_to(r, share) is not None and greedy_stations(r, share)])
-                for p in planners
-            ))
+            best_per_greedy[share].append(min(median(per_greedy(groups[m, p, "team"], share)) for p in planners))
 
     same_scans = all(
         [summary(r)["scans"] for r in groups[m, p, "team"]] == [summary(r)["scans"] for r in groups[m, p, "single"]]

@@ -8,10 +8,9 @@ targets on every map (`closed-networks`, experiments/closed-networks.toml)."""
 import math
 from pathlib import Path
 
-from .common import ROOT, SPOTS, count, fixed, load, ratio_range, run, source, toml_of
+from .common import ROOT, SPOTS, called, count, fixed, load, places, ratio_range, run, source, toml_of
 from .experiments import CONTEXT, by_map_and, experiment, maps_in, summary, with_spots
 from .ledger import SPOT_FIELDS
-from .paper import called, places
 
 # The paper's planner, as these runs have always been measured.
 PLANNER = {"parent": {"planner": "paper", "viewpoints": False}}

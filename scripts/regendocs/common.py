@@ -129,6 +129,49 @@ def ratio_range(values, places=1, suffix=""):
     return f"{lo}{suffix}" if lo == hi else f"{lo}–{hi}{suffix}"
 
 
+# -- Words: claims the figures decide, as the documents state them. ------------------
+
+BUILTIN = {"office", "site", "tunnel", "building"}
+
+
+def called(m):
+    """A map as the text names it: `the office`, `intel_lab`."""
+    return f"the {m}" if m in BUILTIN else m
+
+
+def listed(parts):
+    """`a`, `a and b`, `a, b and c`."""
+    return parts[0] if len(parts) == 1 else ", ".join(parts[:-1]) + " and " + parts[-1]
+
+
+def places(maps, every):
+    """`every map`, `the office and the site`, `no map`."""
+    if not maps:
+        return "no map"
+    if len(maps) == len(every):
+        return "every map"
+    return listed([called(m) for m in maps])
+
+
+def per_map(pairs):
+    """`31 % on the office, 15 % on the site and 8 % on the tunnel`."""
+    return listed([f"{text} on {called(m)}" for m, text in pairs])
+
+
+# -- Episodes. ------------------------------------------------------------------------
+
+
+def thetas(episode):
+    """Eq. (2)'s angle θ of every child that moved, over an episode's cycles."""
+    return [
+        child["theta_deg"]
+        for step in episode["steps"]
+        for cycle in (step.get("move") or {}).get("cycles") or []
+        for child in cycle["children"]
+        if not child["stays"] and child.get("theta_deg") is not None
+    ]
+
+
 # -- Configurations as TOML (the records keep them as JSON). ------------------------
 
 

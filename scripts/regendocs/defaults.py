@@ -3,9 +3,8 @@ every planner under the default child strategy and every child strategy under
 the default planner, on every built-in and shared map, five seeds. RESULTS'
 "The defaults" section."""
 
-from .common import count, median, median_range, ratio_range, source
-from .experiments import by_map_and, experiment, maps_in, scans_to, summary, with_spots
-from .paper import places
+from .common import count, median, median_range, places, ratio_range, source
+from .experiments import by_map_and, experiment, maps_in, reached, summary, with_spots
 
 # The office floors of issue 35's travel target.
 OFFICE_FLOORS = ["office", "intel_lab", "willow_garage", "utexas_gdc_floor3", "mit_csail_3rd_floor",
@@ -39,7 +38,7 @@ def defaults(tmp):
         return summary(r)["parent_travel_m"]
 
     def to99(m, p):
-        return [t for t in values(m, p, lambda r: scans_to(r, 0.99)) if t is not None]
+        return reached(groups[m, p], 0.99)
 
     hour_rows, scan_rows, strategy_rows = [], [], []
     wins, misses, oracle_ratio, floor_share, drives_least = [], [], {}, {}, []

@@ -50,6 +50,11 @@ def scans_to(record, share):
     return None
 
 
+def reached(records, share):
+    """Each episode's scans to `share` of the coverage, of those that got there."""
+    return [t for t in (scans_to(r, share) for r in records) if t is not None]
+
+
 def condition(record):
     e = record["episode"]
     return (e["parameters"], e["planner"], e["child_strategy"], e["instrument"])

@@ -2,32 +2,8 @@
 `strategies.toml`, `cps-viii.toml`): RESULTS' Fig. 9, Fig. 10 and CPS-VIII
 tables and the sentences that read them."""
 
-from .common import mean, mean_sd, median, source
-from .experiments import by_map_and, experiment, maps_in, scans_to, summary, with_spots
-
-
-BUILTIN = {"office", "site", "tunnel", "building"}
-
-
-def called(m):
-    """A map as the text names it: `the office`, `intel_lab`."""
-    return f"the {m}" if m in BUILTIN else m
-
-
-def places(maps, every):
-    """`every map`, `the office and the site`, `no map`."""
-    if not maps:
-        return "no map"
-    if len(maps) == len(every):
-        return "every map"
-    names = [called(m) for m in maps]
-    return names[0] if len(names) == 1 else ", ".join(names[:-1]) + " and " + names[-1]
-
-
-def per_map(pairs):
-    """`31 % on the office, 15 % on the site and 8 % on the tunnel`."""
-    parts = [f"{text} on {called(m)}" for m, text in pairs]
-    return parts[0] if len(parts) == 1 else ", ".join(parts[:-1]) + " and " + parts[-1]
+from .common import mean, mean_sd, median, per_map, places, source
+from .experiments import by_map_and, experiment, maps_in, reached, summary, with_spots
 
 
 def seen_m2(s, resolution):
@@ -48,7 +24,7 @@ def alpha_beta(tmp):
             rs = groups[m, p]
             ss = [summary(r) for r in rs]
             res = rs[0]["episode"]["config"]["resolution"]
-            to99 = [t for t in (scans_to(r, 0.99) for r in rs) if t is not None]
+            to99 = reached(rs, 0.99)
             st = {
                 "scans": mean([s["scans"] for s in ss]),
                 "per_scan": mean([seen_m2(s, res) / s["scans"] for s in ss]),

@@ -6,7 +6,7 @@ import struct
 import sys
 from pathlib import Path
 
-from .common import IMAGES, SHARED, count, fixed, load, mm, percent_share, run, source, spread
+from .common import IMAGES, SHARED, count, fixed, load, median, mm, percent_share, run, source, spread, thetas
 
 
 def episode_figures(summary):
@@ -160,16 +160,8 @@ def builtin(tmp):
         figures[f"alone_{name}_scans"] = count(alone[name]["scans"])
     figures["alone_same"] = "at the same positions as" if same else "at other positions than"
     # Eq. (2)'s angle θ over the children that moved, the paper's site run.
-    thetas = sorted(
-        child["theta_deg"]
-        for step in load(Path(tmp) / "paper-site" / "episode.json")["steps"]
-        for cycle in step["move"].get("cycles") or []
-        for child in cycle["children"]
-        if not child["stays"] and child.get("theta_deg") is not None
-    )
-    middle = len(thetas) // 2
-    median = thetas[middle] if len(thetas) % 2 else (thetas[middle - 1] + thetas[middle]) / 2
-    figures["paper_site_theta"] = fixed(median, 0)
+    theta = median(thetas(load(Path(tmp) / "paper-site" / "episode.json")))
+    figures["paper_site_theta"] = fixed(theta, 0)
     figures["paper_site_travel_m"] = count(round(runs["paper", "site"]["parent_travel_m"]))
     figures["alone_site_travel_m"] = count(round(alone["site"]["parent_travel_m"]))
     figures["alone_coverage"] = f"{min(a['coverage'] for a in alone.values()):.4f}"

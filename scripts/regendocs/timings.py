@@ -3,6 +3,7 @@ measured on this machine by --heavy and kept in the ledger. Wall times differ
 between machines and runs, so no spot check re-runs them; the memory figures
 are the estimates the refusals print, which do not."""
 
+import os
 import re
 import resource
 import subprocess
@@ -95,8 +96,6 @@ def build(tmp):
     """Times `cargo run --release -- explore`'s build, the test build and the
     tests, as a new user meets them (a target directory of their own; the
     crates already downloaded)."""
-    import os
-
     env = dict(os.environ, CARGO_TARGET_DIR=str(Path(tmp) / "target"), CARGO_TERM_COLOR="never")
 
     def cargo(*args):
