@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 use serde_json::Value;
 
 mod common;
-use common::{cpsplan, summary};
+use common::{cpsplan, skipped, summary};
 
 /// The shared real maps (`../shared/maps` beside the project), or `None` after
 /// saying, past the test harness's capture, that `test` is skipped.
@@ -16,12 +16,7 @@ fn shared_maps(test: &str) -> Option<PathBuf> {
     if p.is_dir() {
         return Some(p);
     }
-    use std::io::Write as _;
-    let _ = writeln!(
-        std::io::stderr(),
-        "SKIPPED {test}: needs the shared real maps in ../shared/maps (see README)"
-    );
-    None
+    skipped(test, "the shared real maps in ../shared/maps (see README)")
 }
 
 /// Every CPS link of the episode in `dir` (each child's spot to the parent's

@@ -10,7 +10,7 @@ use cpsplan_cli::formats::rosmap::load_map;
 use serde_json::Value;
 
 mod common;
-use common::cpsplan;
+use common::{cpsplan, skipped};
 
 /// A shared cloud, or `None` with a visible SKIPPED line when the shared data
 /// is absent.
@@ -21,12 +21,7 @@ fn shared(name: &str, test: &str) -> Option<PathBuf> {
     if p.is_file() {
         return Some(p);
     }
-    use std::io::Write as _;
-    let _ = writeln!(
-        std::io::stderr(),
-        "SKIPPED {test}: needs the shared clouds in ../shared/clouds (see README)"
-    );
-    None
+    skipped(test, "the shared clouds in ../shared/clouds (see README)")
 }
 
 fn s(p: &Path) -> &str {

@@ -7,7 +7,7 @@ use std::path::Path;
 use serde_json::Value;
 
 mod common;
-use common::{body_after_scripts, chromium, explore_page, headless, two_planner_report};
+use common::{body_after_scripts, chromium, chromium_window, explore_page, two_planner_report};
 
 fn data(html: &str) -> Value {
     let open = "<script id=\"data\" type=\"application/json\">";
@@ -93,21 +93,9 @@ fn chromium_renders_the_map_and_stepping_changes_it() {
     let (path, _) = explore_page(&tmp.path().join("out"), "8", &[]);
     let url = |hash: &str| format!("file://{}#{hash}", path.display());
     let run = |args: &[String]| {
-        let out = headless(&chrome, &tmp.path().join("profile"))
-            .args([
-                "--hide-scrollbars",
-                "--window-size=1400,1000",
-                "--virtual-time-budget=20000",
-            ])
-            .args(args)
-            .output()
-            .expect("chromium runs");
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
-        String::from_utf8_lossy(&out.stdout).into_owned()
+        let mut all = vec!["--hide-scrollbars".to_string()];
+        all.extend_from_slice(args);
+        chromium_window(&chrome, &tmp.path().join("profile"), &all)
     };
     // The script ran to the end and shows the asked-for scan.
     let dom = run(&["--dump-dom".into(), url("step=3")]);
@@ -152,20 +140,14 @@ fn chromium_draws_the_targets_and_their_measurements() {
         return;
     };
     let shot = tmp.path().join("last.png");
-    let out = headless(&chrome, &tmp.path().join("profile"))
-        .args([
-            "--hide-scrollbars",
-            "--window-size=1400,1000",
-            "--virtual-time-budget=20000",
-        ])
-        .arg(format!("--screenshot={}", shot.display()))
-        .arg(format!("file://{}#step=10", path.display()))
-        .output()
-        .expect("chromium runs");
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
+    chromium_window(
+        &chrome,
+        &tmp.path().join("profile"),
+        &[
+            "--hide-scrollbars".to_string(),
+            format!("--screenshot={}", shot.display()),
+            format!("file://{}#step=10", path.display()),
+        ],
     );
     // The targets are drawn in their colour (#00796b).
     let img = image::open(&shot).expect("a screenshot").to_rgb8();

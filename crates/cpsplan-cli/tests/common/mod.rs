@@ -173,11 +173,17 @@ pub fn chromium(test: &str) -> Option<PathBuf> {
             }
         }
     }
+    skipped(
+        test,
+        "headless Chromium (Debian package `chromium`; .ci/run installs it)",
+    )
+}
+
+/// `None`, after saying past the test harness's capture that `test` is
+/// skipped for want of what it `needs`.
+pub fn skipped<T>(test: &str, needs: &str) -> Option<T> {
     use std::io::Write as _;
-    let _ = writeln!(
-        std::io::stderr(),
-        "SKIPPED {test}: needs headless Chromium (Debian package `chromium`; .ci/run installs it)"
-    );
+    let _ = writeln!(std::io::stderr(), "SKIPPED {test}: needs {needs}");
     None
 }
 
@@ -257,16 +263,16 @@ pub fn two_planner_report(dir: &Path, scans: usize, html: bool) -> PathBuf {
     out.join("report/report.html")
 }
 
-/// The `<body …>` tag of `url` after its scripts ran, in a 1400 × 1000 window.
-pub fn body_after_scripts(chrome: &Path, profile: &Path, url: &str) -> String {
+/// Headless `chrome` in a 1400 × 1000 window, its pages' scripts given 20 s
+/// of virtual time, with `args` (the page's address last): what it printed.
+pub fn chromium_window<S: AsRef<std::ffi::OsStr>>(
+    chrome: &Path,
+    profile: &Path,
+    args: &[S],
+) -> String {
     let out = headless(chrome, profile)
-        .args([
-            "--window-size=1400,1000",
-            "--virtual-time-budget=20000",
-            "--allow-file-access-from-files",
-            "--dump-dom",
-        ])
-        .arg(url)
+        .args(["--window-size=1400,1000", "--virtual-time-budget=20000"])
+        .args(args)
         .output()
         .expect("chromium runs");
     assert!(
@@ -274,7 +280,16 @@ pub fn body_after_scripts(chrome: &Path, profile: &Path, url: &str) -> String {
         "{}",
         String::from_utf8_lossy(&out.stderr)
     );
-    let dom = String::from_utf8_lossy(&out.stdout).into_owned();
+    String::from_utf8_lossy(&out.stdout).into_owned()
+}
+
+/// The `<body …>` tag of `url` after its scripts ran, in a 1400 × 1000 window.
+pub fn body_after_scripts(chrome: &Path, profile: &Path, url: &str) -> String {
+    let dom = chromium_window(
+        chrome,
+        profile,
+        &["--allow-file-access-from-files", "--dump-dom", url],
+    );
     let body = dom.find("<body").expect("a body");
     dom[body..body + dom[body..].find('>').expect("a whole tag")].to_string()
 }
