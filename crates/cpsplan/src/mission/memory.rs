@@ -16,7 +16,8 @@
 //! everything known: 3.84 GB against 3.84 GB for a step's structures). An
 //! episode with children also keeps the GVD's obstacle side over the whole
 //! grid across scans, counted from its buffers' sizes
-//! ([`KEPT_TEAM_BYTES_PER_CELL`]). docs/PERFORMANCE.md lists the estimate
+//! ([`KEPT_TEAM_BYTES_PER_CELL`]), and every episode the gain views' cell
+//! classes ([`VIEW_CLASS_BYTES_PER_CELL`]). docs/PERFORMANCE.md lists the estimate
 //! against the measured peak on every map tried: within about 15 % on the
 //! large maps, up to half high on small ones, and short with children on open
 //! ground, where the Visibility-Graph search's lists and queue (not counted
@@ -41,6 +42,10 @@ pub const TEAM_BYTES_PER_CELL: u64 = 40;
 /// component labels and the two straddling-pair flags: 1 + 8 + 4 + 4 + 4 + 4 +
 /// 2 bytes).
 pub const KEPT_TEAM_BYTES_PER_CELL: u64 = 27;
+/// Bytes per planning cell the gain estimate keeps across scans for its views'
+/// sweep by runs: each cell's class in rows and in columns (1 + 1 bytes,
+/// `sensing::NearField`).
+pub const VIEW_CLASS_BYTES_PER_CELL: u64 = 2;
 /// Bytes the gain views kept across scans take at most, whatever the map: 4
 /// a near cell, and about 128 a view for its entry and counts
 /// (`sensing::GainEstimate`'s kept views).
@@ -75,11 +80,12 @@ impl MemoryEstimate {
     /// and then with what the episode keeps across scans).
     pub fn for_grid(width: usize, height: usize, config: &Config) -> Self {
         let cells = (width as u64).saturating_mul(height as u64);
-        let per_cell = if config.children.count > 0 {
-            TEAM_BYTES_PER_CELL + KEPT_TEAM_BYTES_PER_CELL
-        } else {
-            PARENT_BYTES_PER_CELL
-        };
+        let per_cell = VIEW_CLASS_BYTES_PER_CELL
+            + if config.children.count > 0 {
+                TEAM_BYTES_PER_CELL + KEPT_TEAM_BYTES_PER_CELL
+            } else {
+                PARENT_BYTES_PER_CELL
+            };
         let range = (config.scanner.range / 20.0).clamp(0.05, 1e6);
         Self {
             cells,
@@ -129,7 +135,9 @@ mod tests {
         assert!(team.bytes(0) > alone.bytes(0));
         assert_eq!(
             alone.bytes(0),
-            FIXED_BYTES + 480_000 * PARENT_BYTES_PER_CELL + KEPT_VIEWS_BYTES
+            FIXED_BYTES
+                + 480_000 * (PARENT_BYTES_PER_CELL + VIEW_CLASS_BYTES_PER_CELL)
+                + KEPT_VIEWS_BYTES
         );
         // Pictures count only where they outweigh the planning.
         assert_eq!(alone.with_pictures(1_000).bytes(0), alone.bytes(0));
@@ -147,7 +155,7 @@ mod tests {
     fn a_square_kilometre_at_a_decimetre_needs_gigabytes() {
         let config = Config::default();
         let e = MemoryEstimate::for_grid(10_000, 10_000, &config);
-        assert!((5_500.0..6_500.0).contains(&e.mb(0)), "{}", e.mb(0));
+        assert!((6_000.0..7_000.0).contains(&e.mb(0)), "{}", e.mb(0));
         // Sizes beyond any machine saturate instead of wrapping.
         let huge = MemoryEstimate::for_grid(usize::MAX, usize::MAX, &config);
         assert_eq!(huge.bytes(usize::MAX), u64::MAX);

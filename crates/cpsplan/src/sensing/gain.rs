@@ -19,13 +19,14 @@ use std::sync::Arc;
 use rayon::prelude::*;
 
 use super::kept_views::{Kept, KeptView, KeptViews};
-use super::visible_cells;
+use super::view_runs::ViewClasses;
 
 /// The gain estimate of one knowledge map.
 #[derive(Debug, Clone)]
 pub struct GainEstimate {
-    /// Unknown cells within `unknown_depth` of a known-Free cell.
-    near: Arc<Vec<bool>>,
+    /// Per cell its class for the views' sweep by runs: the Unknown cells
+    /// within `unknown_depth` of a known-Free cell apart.
+    classes: Arc<ViewClasses>,
     /// Area of one cell, m².
     cell_m2: f64,
     /// `parent.gain_scale`.
@@ -66,7 +67,7 @@ impl GainEstimate {
         let g = knowledge.geometry();
         let cell_m2 = g.resolution * g.resolution;
         Self {
-            near: Arc::clone(&field.near),
+            classes: Arc::clone(&field.classes),
             cell_m2,
             scale: config.parent.gain_scale,
             known_free_m2: field.free_cells as f64 * cell_m2,
@@ -181,25 +182,8 @@ impl GainEstimate {
         mut on_near: impl FnMut(usize),
         stop: impl Fn(usize, usize) -> bool,
     ) -> (usize, usize) {
-        let k = knowledge.cells();
-        let (mut s, mut near) = (0usize, 0usize);
-        visible_cells(
-            knowledge.geometry(),
-            at,
-            range_cells,
-            |i| k[i] == CellState::Occupied,
-            |i| {
-                if k[i] == CellState::Unknown {
-                    s += 1;
-                    if self.near[i] {
-                        near += 1;
-                        on_near(i);
-                    }
-                }
-                stop(s, near)
-            },
-        );
-        (s, near)
+        self.classes
+            .count(knowledge.geometry(), at, range_cells, &mut on_near, &stop)
     }
 
     /// The calibrated area, m², of `near_cells` cells.
@@ -243,6 +227,9 @@ const BLOCK: usize = 2;
 pub struct NearField {
     /// Per cell: Unknown and near.
     near: Arc<Vec<bool>>,
+    /// Per cell its class for the views' sweep by runs (state and near flag),
+    /// in rows and in columns.
+    classes: Arc<ViewClasses>,
     /// Per block: within the depth of a free block.
     within: Vec<bool>,
     /// Blocks per row and column.
@@ -269,6 +256,7 @@ impl NearField {
         let (bw, bh) = (g.width.div_ceil(BLOCK), g.height.div_ceil(BLOCK));
         let mut field = Self {
             near: Arc::new(vec![false; k.len()]),
+            classes: Arc::new(ViewClasses::new(g, k, &vec![false; k.len()])),
             within: vec![false; bw * bh],
             bw,
             bh,
@@ -293,8 +281,10 @@ impl NearField {
         let g = knowledge.geometry();
         let k = knowledge.cells();
         let near = Arc::make_mut(&mut self.near);
+        let classes = Arc::make_mut(&mut self.classes);
         for &i in changed {
             near[i] = k[i] == CellState::Unknown && near[i];
+            classes.set(i, k[i], near[i]);
         }
         // The near cells change only in the changed cells and the window the
         // transform redoes (the made-free cells' box widened by `pad` blocks):
@@ -368,6 +358,7 @@ impl NearField {
             })
             .collect();
         let near = Arc::make_mut(&mut self.near);
+        let classes = Arc::make_mut(&mut self.classes);
         for (r0, within) in strips {
             for (j, &w) in within.iter().enumerate() {
                 let (bx, by) = (bx0 + j % ww, by0 + r0 + j / ww);
@@ -379,6 +370,7 @@ impl NearField {
                     for x in bx * BLOCK..((bx + 1) * BLOCK).min(g.width) {
                         let i = y * g.width + x;
                         near[i] = k[i] == CellState::Unknown;
+                        classes.set(i, k[i], near[i]);
                     }
                 }
             }
@@ -505,6 +497,7 @@ mod tests {
             let mut config = Config::default();
             config.parent.unknown_depth = depth;
             let e = GainEstimate::new(&k, &config);
+            let field = NearField::new(&k, &config);
             let limit = i64::from(chamfer_limit(depth / 0.1 / BLOCK as f64));
             let b = BLOCK as i64;
             for i in 0..g.len() {
@@ -515,7 +508,7 @@ mod tests {
                         let (dx, dy) = ((jx - bx).abs(), (jy - by).abs());
                         k.cells()[j] == CellState::Free && 3 * dx.max(dy) + dx.min(dy) <= limit
                     });
-                proptest::prop_assert_eq!(e.near[i], want, "cell {}", i);
+                proptest::prop_assert_eq!(field.near()[i], want, "cell {}", i);
             }
             for at in [Cell::new(3, 3), Cell::new(12, 9), Cell::new(20, 15)] {
                 let full = e.worth_a_scan(&e.at(&k, at, 8.0));
@@ -545,6 +538,7 @@ mod tests {
                 field.update(&knowledge, &changed);
                 let fresh = NearField::new(&knowledge, &config);
                 proptest::prop_assert_eq!(field.near(), fresh.near());
+                proptest::prop_assert!(*field.classes == *fresh.classes, "classes kept");
                 proptest::prop_assert_eq!(field.free_cells(), fresh.free_cells());
                 proptest::prop_assert_eq!(&field.within, &fresh.within);
                 let (a, b) = (

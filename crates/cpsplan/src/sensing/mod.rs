@@ -22,6 +22,7 @@ mod shadowcast;
 mod sight;
 mod sight_sweep;
 mod view;
+mod view_runs;
 
 pub use gain::{Gain, GainEstimate, NearField};
 pub use kept_views::{MAX_KEPT_CELLS, MAX_KEPT_VIEWS};

@@ -17,14 +17,14 @@ use crate::grid::GridGeometry;
 
 /// A slope `num / den` (den > 0) as a column offset per row of depth.
 #[derive(Clone, Copy)]
-struct Slope {
-    num: i64,
-    den: i64,
+pub(super) struct Slope {
+    pub(super) num: i64,
+    pub(super) den: i64,
 }
 
 impl Slope {
     /// The slope through the left edge of the tile at (`depth`, `col`).
-    fn of_tile(depth: i64, col: i64) -> Self {
+    pub(super) fn of_tile(depth: i64, col: i64) -> Self {
         Self {
             num: 2 * col - 1,
             den: 2 * depth,
@@ -34,13 +34,13 @@ impl Slope {
 
 /// `round(depth * s)` with ties rounded up.
 #[inline]
-fn round_ties_up(depth: i64, s: Slope) -> i64 {
+pub(super) fn round_ties_up(depth: i64, s: Slope) -> i64 {
     (2 * depth * s.num + s.den).div_euclid(2 * s.den)
 }
 
 /// `round(depth * s)` with ties rounded down.
 #[inline]
-fn round_ties_down(depth: i64, s: Slope) -> i64 {
+pub(super) fn round_ties_down(depth: i64, s: Slope) -> i64 {
     -(s.den - 2 * depth * s.num).div_euclid(2 * s.den)
 }
 
