@@ -5,7 +5,8 @@
 //!
 //! `cargo run --release -p cpsplan --example step_timing -- site 0 2`
 //! (`VERBOSE=1` prints every step's time; `STRATEGY=min-error` sets the child
-//! strategy; `PLANNER=tour` the planner).
+//! strategy; `PLANNER=tour` the planner; `PRESET=paper` starts from the paper's
+//! choices instead of the defaults).
 
 use std::time::Instant;
 
@@ -19,10 +20,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let seed: u64 = args.next().map(|s| s.parse()).transpose()?.unwrap_or(0);
     let children: usize = args.next().map(|s| s.parse()).transpose()?.unwrap_or(2);
     let verbose = std::env::var_os("VERBOSE").is_some();
-    let mut config = Config {
-        seed,
-        ..Config::default()
+    let mut config = match std::env::var("PRESET").as_deref() {
+        Ok("paper") => Config::preset(cpsplan::config::Preset::Paper),
+        Ok(_) => return Err("unknown PRESET (paper)".into()),
+        Err(_) => Config::default(),
     };
+    config.seed = seed;
     config.children.count = children;
     if let Some(p) = std::env::var_os("PLANNER") {
         config.parent.planner = match p.to_string_lossy().as_ref() {
