@@ -23,7 +23,7 @@
 //! answers are exact. Cost: the cells of the disc and the few columns beyond
 //! the lit intervals, one blocking test each; no square roots.
 
-use super::shadowcast::quadrants;
+use super::shadowcast::{isqrt, quadrants};
 use crate::geom::Cell;
 use crate::grid::GridGeometry;
 
@@ -134,7 +134,7 @@ pub fn certain_cells(
             }
             // The cells of this row whose slope lies strictly inside (lo, hi).
             let reach = if q.owns_diagonals { d } else { d - 1 };
-            let half = (r2 - d * d).max(0).isqrt();
+            let half = isqrt(r2 - d * d);
             let first = if lo.den == 0 {
                 i64::MIN
             } else {

@@ -20,7 +20,7 @@
 use crate::geom::Cell;
 use crate::grid::{CellState, GridGeometry};
 
-use super::shadowcast::{quadrants, round_ties_down, round_ties_up, Quadrant, Slope};
+use super::shadowcast::{isqrt, quadrants, Quadrant, Slope};
 
 /// A cell the light passes that is known free.
 const FREE: u8 = 0;
@@ -106,7 +106,7 @@ impl ViewClasses {
         let mut sweep = RunSweep {
             classes: self,
             origin,
-            r2: 0,
+            halves: Vec::new(),
             unknown: 0,
             near: 0,
             on_near,
@@ -124,7 +124,11 @@ impl ViewClasses {
             return (sweep.unknown, sweep.near);
         }
         let (r2, quadrants) = quadrants(geometry, origin, range_cells);
-        sweep.r2 = r2;
+        // The disc's half-width at every depth, once a view rather than once a row.
+        let deepest = quadrants.iter().map(|q| q.max_depth).max().unwrap_or(0);
+        sweep.halves = (0..=deepest.max(0))
+            .map(|d| if d * d > r2 { -1 } else { isqrt(r2 - d * d) })
+            .collect();
         for (n, q) in quadrants.iter().enumerate() {
             let line = Line::of(n, q);
             if q.max_depth >= 1
@@ -168,7 +172,9 @@ impl Line {
 struct RunSweep<'a> {
     classes: &'a ViewClasses,
     origin: Cell,
-    r2: i64,
+    /// The disc's half-width in columns at each depth (`isqrt(r² − depth²)`),
+    /// −1 beyond the radius.
+    halves: Vec<i64>,
     unknown: usize,
     near: usize,
     on_near: &'a mut dyn FnMut(usize),
@@ -226,21 +232,26 @@ impl<'a> RunSweep<'a> {
         if depth > q.max_depth {
             return false;
         }
-        let rem = self.r2 - depth * depth;
-        if rem < 0 {
+        let half = self.halves[depth as usize];
+        if half < 0 {
             return false;
         }
-        let half = rem.isqrt();
-        let lo = round_ties_up(depth, start).max(-half).max(q.col_lo);
-        let hi = round_ties_down(depth, end).min(half).min(q.col_hi);
+        // One division a slope: `depth · slope = whole + rest / den`. The row
+        // runs from the start slope's column rounded (ties up) to the end
+        // slope's rounded (ties down); transparent cells are seen where their
+        // centre is lit, from the start's column rounded up to the end's
+        // rounded down; off this quadrant's diagonals when it does not own them.
+        let (sw, sr) = whole_and_rest(depth, start);
+        let (ew, er) = whole_and_rest(depth, end);
+        let lo = (sw + i64::from(2 * sr >= start.den))
+            .max(-half)
+            .max(q.col_lo);
+        let hi = (ew + i64::from(2 * er > end.den)).min(half).min(q.col_hi);
         if lo > hi {
             return false;
         }
-        // Transparent cells are seen where their centre is lit: from the start
-        // slope's column (rounded up) to the end slope's (rounded down); off
-        // this quadrant's diagonals when it does not own them.
-        let mut lit_lo = ceil_div(depth * start.num, start.den);
-        let mut lit_hi = (depth * end.num).div_euclid(end.den);
+        let mut lit_lo = sw + i64::from(sr > 0);
+        let mut lit_hi = ew;
         if !q.owns_diagonals {
             lit_lo = lit_lo.max(1 - depth);
             lit_hi = lit_hi.min(depth - 1);
@@ -312,10 +323,11 @@ fn first_wall(cells: &[u8]) -> usize {
     at
 }
 
-/// `⌈a / b⌉` for `b > 0`.
+/// `depth · s` as a whole number and a rest in `0..s.den` of `s.den`ths.
 #[inline]
-fn ceil_div(a: i64, b: i64) -> i64 {
-    -((-a).div_euclid(b))
+fn whole_and_rest(depth: i64, s: Slope) -> (i64, i64) {
+    let n = depth * s.num;
+    (n.div_euclid(s.den), n.rem_euclid(s.den))
 }
 
 #[cfg(test)]
@@ -389,6 +401,24 @@ mod tests {
             let (_, n) = classes.count(&g, origin, range, &mut |_| {}, &enough);
             proptest::prop_assert_eq!(n >= need, seen.len() >= need);
             proptest::prop_assert!(n <= seen.len());
+        }
+    }
+
+    #[test]
+    fn one_division_rounds_as_the_cell_sweep_does() {
+        use crate::sensing::shadowcast::{round_ties_down, round_ties_up};
+        for depth in 1..40 {
+            for den in 1..30 {
+                for num in -2 * den..=2 * den {
+                    let s = Slope { num, den };
+                    let (w, r) = whole_and_rest(depth, s);
+                    let x = (depth * num) as f64 / den as f64;
+                    assert_eq!(w + i64::from(2 * r >= den), round_ties_up(depth, s));
+                    assert_eq!(w + i64::from(2 * r > den), round_ties_down(depth, s));
+                    assert_eq!(w + i64::from(r > 0), x.ceil() as i64);
+                    assert_eq!(w, x.floor() as i64);
+                }
+            }
         }
     }
 
