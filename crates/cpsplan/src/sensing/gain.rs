@@ -256,7 +256,7 @@ impl NearField {
         let (bw, bh) = (g.width.div_ceil(BLOCK), g.height.div_ceil(BLOCK));
         let mut field = Self {
             near: Arc::new(vec![false; k.len()]),
-            classes: Arc::new(ViewClasses::new(g, k, &vec![false; k.len()])),
+            classes: Arc::new(ViewClasses::new(g, k)),
             within: vec![false; bw * bh],
             bw,
             bh,

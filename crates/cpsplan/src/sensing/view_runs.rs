@@ -54,14 +54,11 @@ pub(super) struct ViewClasses {
 }
 
 impl ViewClasses {
-    /// The classes of every cell of a `geometry` grid from its states and near flags.
-    pub(super) fn new(geometry: &GridGeometry, states: &[CellState], near: &[bool]) -> Self {
+    /// The classes of every cell of a `geometry` grid from its states, no cell
+    /// near yet (the near ones are [`Self::set`] as the gain field finds them).
+    pub(super) fn new(geometry: &GridGeometry, states: &[CellState]) -> Self {
         let (width, height) = (geometry.width, geometry.height);
-        let rows: Vec<u8> = states
-            .iter()
-            .zip(near)
-            .map(|(&s, &n)| class(s, n))
-            .collect();
+        let rows: Vec<u8> = states.iter().map(|&s| class(s, false)).collect();
         let mut cols = vec![FREE; rows.len()];
         for (y, row) in rows.chunks_exact(width.max(1)).enumerate() {
             for (x, &c) in row.iter().enumerate() {
@@ -129,8 +126,8 @@ impl ViewClasses {
         sweep.halves = (0..=deepest.max(0))
             .map(|d| if d * d > r2 { -1 } else { isqrt(r2 - d * d) })
             .collect();
-        for (n, q) in quadrants.iter().enumerate() {
-            let line = Line::of(n, q);
+        for q in &quadrants {
+            let line = Line::of(q);
             if q.max_depth >= 1
                 && sweep.row(
                     q,
@@ -147,8 +144,8 @@ impl ViewClasses {
     }
 }
 
-/// Which layout holds a quadrant's rows contiguously, and the signs of its
-/// depth steps.
+/// Which layout holds a quadrant's rows contiguously, and the sign of its
+/// depth step.
 #[derive(Clone, Copy)]
 struct Line {
     /// Rows of the map (north, south) or columns (east, west).
@@ -158,12 +155,15 @@ struct Line {
 }
 
 impl Line {
-    /// The layout of quadrant number `n` of [`quadrants`] (north, south, east, west).
-    fn of(n: usize, q: &Quadrant) -> Self {
+    /// The layout of quadrant `q`: a row of the north and south quadrants
+    /// (depth along y) is a row of the map, one of the east and west ones a
+    /// column.
+    fn of(q: &Quadrant) -> Self {
         let (dx, dy) = q.depth_step;
+        let in_rows = dy != 0;
         Self {
-            in_rows: n < 2,
-            sign: if n < 2 { dy } else { dx },
+            in_rows,
+            sign: if in_rows { dy } else { dx },
         }
     }
 }
@@ -391,7 +391,10 @@ mod tests {
                 .map(|(&(_, n), &s)| n && s == CellState::Unknown)
                 .collect();
             let origin = Cell::new(at.0 % w, at.1 % h);
-            let classes = ViewClasses::new(&g, &states, &near);
+            let mut classes = ViewClasses::new(&g, &states);
+            for (i, &n) in near.iter().enumerate().filter(|(_, &n)| n) {
+                classes.set(i, states[i], n);
+            }
             let (unknown, seen) = by_cells(&g, &states, &near, origin, range);
             let mut listed = Vec::new();
             let counted = classes.count(&g, origin, range, &mut |i| listed.push(i), &|_, _| false);
@@ -426,7 +429,7 @@ mod tests {
     fn classes_follow_their_cells() {
         let g = GridGeometry::new(3, 2, 0.1, Point::default());
         let states = vec![CellState::Unknown; 6];
-        let mut c = ViewClasses::new(&g, &states, &[false; 6]);
+        let mut c = ViewClasses::new(&g, &states);
         c.set(5, CellState::Occupied, false);
         c.set(1, CellState::Unknown, true);
         assert_eq!(c.rows, [UNKNOWN, NEAR, UNKNOWN, UNKNOWN, UNKNOWN, WALL]);
