@@ -67,6 +67,11 @@ impl Window {
         self.x0 <= other.x0 && self.y0 <= other.y0 && self.x1 >= other.x1 && self.y1 >= other.y1
     }
 
+    /// Whether the two windows share a cell.
+    pub fn meets(&self, other: &Window) -> bool {
+        self.x0 <= other.x1 && other.x0 <= self.x1 && self.y0 <= other.y1 && other.y0 <= self.y1
+    }
+
     /// Number of columns.
     pub fn width(&self) -> usize {
         self.x1 - self.x0 + 1

@@ -25,6 +25,7 @@ use crate::grid::{DistanceField, GridGeometry, OccupancyGrid};
 
 use super::band::band_within;
 use super::border::{border_cells, border_in, flood_group, is_significant, significant_border};
+use super::viewpoints::{viewpoints_kept, KeptLooks, Viewpoint};
 
 /// Cell flag: a border cell.
 const BORDER: u8 = 1;
@@ -47,6 +48,9 @@ pub struct Frontier {
     band: Vec<usize>,
     /// The next list, swapped in after an update (kept to reuse its memory).
     spare: Vec<usize>,
+    /// What the border groups' viewpoint searches found, for the groups no
+    /// scan has changed since.
+    looks: KeptLooks,
 }
 
 impl Frontier {
@@ -75,6 +79,7 @@ impl Frontier {
             significant,
             band,
             spare: Vec::new(),
+            looks: KeptLooks::default(),
         }
     }
 
@@ -94,6 +99,27 @@ impl Frontier {
         &self.band
     }
 
+    /// The best viewpoint of every group of the significant border
+    /// ([`super::viewpoints()`]), reusing the sight lines of the groups that no
+    /// scan changed since the last call (the same answers).
+    pub fn viewpoints(
+        &self,
+        knowledge: &OccupancyGrid,
+        range_cells: f64,
+        valid: impl Fn(usize) -> bool + Sync,
+        cost: impl Fn(usize) -> f64 + Sync,
+    ) -> Vec<Viewpoint> {
+        let significant = &self.significant;
+        viewpoints_kept(
+            knowledge,
+            significant,
+            range_cells,
+            valid,
+            cost,
+            Some(&self.looks),
+        )
+    }
+
     /// Brings the state up to date with `knowledge` after the cells `changed` (any
     /// changes, in any order, repeats allowed) took new states.
     pub fn update(&mut self, knowledge: &OccupancyGrid, changed: &[usize]) {
@@ -102,6 +128,7 @@ impl Frontier {
         let Some(changes) = Window::bounding(&g, changed) else {
             return;
         };
+        self.looks.forget(&changes);
         // Step 1: the border, in the changed window grown by one.
         let near = changes.grow(1, &g);
         let near_spans = Spans::of(&[near], g.width);
@@ -249,6 +276,44 @@ mod tests {
                 scan(&truth, &mut knowledge, Cell::new(x % w, y % h), range, |i| changed.push(i));
                 state.update(&knowledge, &changed);
                 assert_fresh(&state, &knowledge, &config);
+            }
+        }
+
+        /// Scans of a random map at 1 m a cell (so that groups lie outside the
+        /// windows a scan changes), each followed by an arbitrary change: after
+        /// every scan the viewpoints from the
+        /// kept looks equal those of a fresh search, for positions and
+        /// travel costs that change from call to call.
+        #[test]
+        fn kept_looks_give_the_viewpoints_of_a_fresh_search(
+            walls in proptest::collection::vec((0usize..90, 0usize..90, 1usize..20, 1usize..4), 0..16),
+            stops in proptest::collection::vec((0usize..90, 0usize..90, 0usize..1000), 1..10),
+            edits in proptest::collection::vec((0usize..90, 0usize..90, 1usize..6, 1usize..6, 0usize..3), 10),
+            range in 4.0f64..30.0,
+        ) {
+            let g = GridGeometry::new(90, 90, 1.0, Point::default());
+            let mut truth = OccupancyGrid::filled(g, CellState::Free);
+            for (n, &(x, y, a, b)) in walls.iter().enumerate() {
+                let (rw, rh) = if n % 2 == 0 { (a, b) } else { (b, a) };
+                truth.fill_rect(x, y, (x + rw).min(90), (y + rh).min(90), CellState::Occupied);
+            }
+            let config = ParentConfig { min_frontier_cells: 0, ..ParentConfig::default() };
+            let mut knowledge = OccupancyGrid::filled(g, CellState::Unknown);
+            let mut state = Frontier::new(&knowledge, &config);
+            for (&(x, y, salt), &(ex, ey, ew, eh, es)) in stops.iter().zip(&edits) {
+                let mut changed = Vec::new();
+                scan(&truth, &mut knowledge, Cell::new(x, y), range, |i| changed.push(i));
+                state.update(&knowledge, &changed);
+                // Any change, also one that does not touch a group's cells.
+                let changed = paint(&mut knowledge, (ex, ey, ew, eh), STATES[es]);
+                state.update(&knowledge, &changed);
+                let k = knowledge.cells();
+                let valid = |i: usize| k[i] == CellState::Free && (i + salt) % 5 != 0;
+                let cost = |i: usize| ((i * 7919 + salt) % 13) as f64;
+                let fresh = super::super::viewpoints(&knowledge, state.significant(), range, valid, cost);
+                prop_assert_eq!(state.viewpoints(&knowledge, range, valid, cost), fresh.clone());
+                // Asked again in the same state: the same.
+                prop_assert_eq!(state.viewpoints(&knowledge, range, valid, cost), fresh);
             }
         }
 

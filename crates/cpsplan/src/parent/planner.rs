@@ -30,7 +30,6 @@ use super::oracle;
 use super::samples::{band_area, cluster_count, scatter};
 use super::score::{evaluate, Terms};
 use super::tour::TourRound;
-use super::viewpoints::viewpoints;
 use crate::config::{Config, Planner};
 use crate::geom::{polyline_length, Cell, Point};
 use crate::grid::path::{shortcut_path, to_world};
@@ -274,7 +273,7 @@ pub fn plan_parent_with_field(
     if pc.viewpoints && pc.planner != Planner::Frontier {
         // Viewpoints that see into the border's groups, beside the centroids.
         let cost = |i: usize| field.metres(i).unwrap_or(f64::INFINITY);
-        for v in viewpoints(knowledge, frontier.significant(), range_cells, valid, cost) {
+        for v in frontier.viewpoints(knowledge, range_cells, valid, cost) {
             if seen_cells.insert(v.cell) {
                 let c = g.cell_center(v.cell);
                 plan.candidates.push(new_candidate(

@@ -11,17 +11,27 @@
 //! chosen for what it sees of the opening, from up to [`RADII_M`]'s largest
 //! radius away.
 //!
+//! In an episode the groups' looks are kept across scans
+//! ([`super::Frontier::viewpoints`]): what a ring position's sight lines show
+//! depends only on the known walls within the group's bounding box grown by
+//! the largest ring, so a group that no scan changed there keeps its counts,
+//! and only whether a position is valid and its travel (the tie-break) are
+//! asked again. Counts cut short (a position that could no longer reach the
+//! best's count) are kept as bounds. The answers are those of a fresh search.
+//!
 //! In: the knowledge map, the significant border, which cells are valid
 //! positions. Out: per group, the best viewpoint's cell and the border cells it
 //! sees.
 
-use std::collections::HashSet;
+use std::collections::HashMap;
+use std::sync::Mutex;
 
 use rayon::prelude::*;
 
 use super::border::flood_group;
 use crate::geom::Cell;
 use crate::grid::line::segment_clear;
+use crate::grid::window::Window;
 use crate::grid::{CellState, OccupancyGrid};
 
 /// Radii of the rings around a group's centre, metres.
@@ -59,90 +69,199 @@ pub fn viewpoints(
     valid: impl Fn(usize) -> bool + Sync,
     cost: impl Fn(usize) -> f64 + Sync,
 ) -> Vec<Viewpoint> {
+    viewpoints_kept(knowledge, significant, range_cells, valid, cost, None)
+}
+
+/// [`viewpoints`], with what earlier calls found out about each group's ring
+/// positions taken from and given back to `kept` (the same answers).
+pub(super) fn viewpoints_kept(
+    knowledge: &OccupancyGrid,
+    significant: &[usize],
+    range_cells: f64,
+    valid: impl Fn(usize) -> bool + Sync,
+    cost: impl Fn(usize) -> f64 + Sync,
+    kept: Option<&KeptLooks>,
+) -> Vec<Viewpoint> {
     let g = *knowledge.geometry();
-    let is_border = |i: usize| significant.binary_search(&i).is_ok();
-    let mut taken: HashSet<usize> = HashSet::new();
+    // Taken, per place in `significant`.
+    let mut taken = vec![false; significant.len()];
     let mut groups: Vec<Vec<usize>> = Vec::new();
     let mut group = Vec::new();
-    for &start in significant {
-        if !taken.insert(start) {
+    for (at, &start) in significant.iter().enumerate() {
+        if std::mem::replace(&mut taken[at], true) {
             continue;
         }
-        flood_group(&g, start, &mut group, |j| is_border(j) && taken.insert(j));
+        flood_group(&g, start, &mut group, |j| {
+            match significant.binary_search(&j) {
+                Ok(p) => !std::mem::replace(&mut taken[p], true),
+                Err(_) => false,
+            }
+        });
         if group.len() >= MIN_GROUP {
             groups.push(group.clone());
         }
     }
+    let mut store = kept.map(KeptLooks::take).unwrap_or_default();
+    let mut looks: Vec<GroupLook> = groups
+        .into_iter()
+        .map(|group| match store.remove(&group) {
+            Some(look) if look.range_bits == range_cells.to_bits() => look,
+            _ => GroupLook::new(knowledge, group, range_cells),
+        })
+        .collect();
     // Each group's search is independent: in parallel, in the groups' order.
-    groups
-        .par_iter()
-        .filter_map(|group| best_of_group(knowledge, group, range_cells, &valid, &cost))
-        .collect()
+    let found = looks
+        .par_iter_mut()
+        .filter_map(|look| look.best(knowledge, &valid, &cost))
+        .collect();
+    if let Some(k) = kept {
+        k.put(looks);
+    }
+    found
 }
 
-/// The best viewpoint of one border group (cell indices), if any position
-/// sees any of it.
-fn best_of_group(
-    knowledge: &OccupancyGrid,
-    group: &[usize],
+/// What is known of a ring position's sight of its group.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Known {
+    /// Not counted yet.
+    Untested,
+    /// It sees this many of the tested border cells.
+    Exact(usize),
+    /// It sees fewer than this many (its count was cut short there).
+    Below(usize),
+}
+
+/// One border group's ring positions and what their sight lines showed: all of
+/// it depends only on the knowledge map within [`GroupLook::window`], so it
+/// holds until a scan changes something there.
+#[derive(Debug, Clone)]
+pub(super) struct GroupLook {
+    /// The group's border cells, in flood order (the key).
+    cells: Vec<usize>,
+    /// The evenly spaced border cells whose sight is tested.
+    tested: Vec<Cell>,
+    /// The tested cells' centre, grid units.
+    centre: (f64, f64),
+    /// The group's outward normal (toward the Unknown cells beside it) and its
+    /// length.
+    normal: (f64, f64, f64),
+    /// The ring positions in order (radius, then angle): the cell and the exact
+    /// point, `None` off the grid.
+    positions: Vec<Option<(Cell, f64, f64)>>,
+    /// What each position's count showed so far.
+    known: Vec<Known>,
+    /// The cells the look depends on: the group's bounding box grown by the
+    /// largest ring and a cell.
+    window: Window,
+    /// The range the counts were made for (its bits).
+    range_bits: u64,
     range_cells: f64,
-    valid: &impl Fn(usize) -> bool,
-    cost: &impl Fn(usize) -> f64,
-) -> Option<Viewpoint> {
-    let g = *knowledge.geometry();
-    let k = knowledge.cells();
-    let step = group.len().div_ceil(SAMPLED_BORDER).max(1);
-    let tested: Vec<Cell> = group.iter().step_by(step).map(|&i| g.cell(i)).collect();
-    let (cx, cy) = tested
-        .iter()
-        .fold((0.0, 0.0), |(x, y), c| (x + c.x as f64, y + c.y as f64));
-    let (cx, cy) = (cx / tested.len() as f64, cy / tested.len() as f64);
-    // The group's outward normal: toward the Unknown cells beside it.
-    let (mut nx, mut ny) = (0.0f64, 0.0f64);
-    for &i in group {
-        let c = g.cell(i);
-        for (dx, dy) in [(1i64, 0i64), (-1, 0), (0, 1), (0, -1)] {
-            let beside = g.checked_cell(c.x as i64 + dx, c.y as i64 + dy);
-            if beside.is_some_and(|n| k[g.index(n)] == CellState::Unknown) {
-                nx += dx as f64;
-                ny += dy as f64;
+}
+
+impl GroupLook {
+    /// The look of one border group (cell indices) with nothing counted yet.
+    fn new(knowledge: &OccupancyGrid, cells: Vec<usize>, range_cells: f64) -> Self {
+        let g = *knowledge.geometry();
+        let k = knowledge.cells();
+        let step = cells.len().div_ceil(SAMPLED_BORDER).max(1);
+        let tested: Vec<Cell> = cells.iter().step_by(step).map(|&i| g.cell(i)).collect();
+        let (cx, cy) = tested
+            .iter()
+            .fold((0.0, 0.0), |(x, y), c| (x + c.x as f64, y + c.y as f64));
+        let (cx, cy) = (cx / tested.len() as f64, cy / tested.len() as f64);
+        let (mut nx, mut ny) = (0.0f64, 0.0f64);
+        for &i in &cells {
+            let c = g.cell(i);
+            for (dx, dy) in [(1i64, 0i64), (-1, 0), (0, 1), (0, -1)] {
+                let beside = g.checked_cell(c.x as i64 + dx, c.y as i64 + dy);
+                if beside.is_some_and(|n| k[g.index(n)] == CellState::Unknown) {
+                    nx += dx as f64;
+                    ny += dy as f64;
+                }
             }
         }
-    }
-    let norm = nx.hypot(ny);
-    let r2 = range_cells * range_cells;
-    // (cells seen, facing in tenths, cost, cell): the most seen, then the
-    // squarest look through the group (toward its normal), then the nearest;
-    // equals keep the smaller ring.
-    let mut best: Option<(usize, i64, f64, Cell)> = None;
-    for r in RADII_M {
-        let rc = r / g.resolution;
-        for a in 0..ANGLES {
-            let t = a as f64 * std::f64::consts::TAU / ANGLES as f64;
-            let (x, y) = (cx + rc * t.cos(), cy + rc * t.sin());
-            if x < 0.0 || y < 0.0 || x >= g.width as f64 || y >= g.height as f64 {
-                continue;
+        let mut positions = Vec::with_capacity(RADII_M.len() * ANGLES);
+        for r in RADII_M {
+            let rc = r / g.resolution;
+            for a in 0..ANGLES {
+                let t = a as f64 * std::f64::consts::TAU / ANGLES as f64;
+                let (x, y) = (cx + rc * t.cos(), cy + rc * t.sin());
+                let on = x >= 0.0 && y >= 0.0 && x < g.width as f64 && y < g.height as f64;
+                positions.push(on.then(|| (Cell::new(x as usize, y as usize), x, y)));
             }
-            let cell = Cell::new(x as usize, y as usize);
+        }
+        let reach = (RADII_M[RADII_M.len() - 1] / g.resolution).ceil() as usize + 1;
+        let window = Window::bounding(&g, &cells)
+            .expect("a group has cells")
+            .grow(reach, &g);
+        Self {
+            known: vec![Known::Untested; positions.len()],
+            cells,
+            tested,
+            centre: (cx, cy),
+            normal: (nx, ny, nx.hypot(ny)),
+            positions,
+            window,
+            range_bits: range_cells.to_bits(),
+            range_cells,
+        }
+    }
+
+    /// The best viewpoint of the group, if any position sees any of it,
+    /// counting only the sight lines no earlier count has settled.
+    fn best(
+        &mut self,
+        knowledge: &OccupancyGrid,
+        valid: &impl Fn(usize) -> bool,
+        cost: &impl Fn(usize) -> f64,
+    ) -> Option<Viewpoint> {
+        let g = *knowledge.geometry();
+        let k = knowledge.cells();
+        let r2 = self.range_cells * self.range_cells;
+        let (cx, cy) = self.centre;
+        let (nx, ny, norm) = self.normal;
+        let tested = &self.tested;
+        // (cells seen, facing in tenths, cost, cell): the most seen, then the
+        // squarest look through the group (toward its normal), then the nearest;
+        // equals keep the smaller ring.
+        let mut best: Option<(usize, i64, f64, Cell)> = None;
+        for (position, known) in self.positions.iter().zip(self.known.iter_mut()) {
+            let Some((cell, x, y)) = *position else {
+                continue;
+            };
             let i = g.index(cell);
             if !valid(i) {
                 continue;
             }
-            // Counted until it can no longer reach the best's count: such a
-            // position loses whatever the rest of its sight lines give.
+            // A position that cannot reach the best's count loses whatever the
+            // rest of its sight lines give: it is counted only until then.
             let need = best.map_or(1, |b| b.0);
-            let mut sees = 0;
-            for (n, b) in tested.iter().enumerate() {
-                if sees + (tested.len() - n) < need {
-                    break;
+            let sees = match *known {
+                Known::Exact(sees) => sees,
+                Known::Below(below) if below <= need => continue,
+                _ => {
+                    let mut sees = 0;
+                    let mut cut = false;
+                    for (n, b) in tested.iter().enumerate() {
+                        if sees + (tested.len() - n) < need {
+                            cut = true;
+                            break;
+                        }
+                        let (dx, dy) = (b.x as f64 - cell.x as f64, b.y as f64 - cell.y as f64);
+                        if dx * dx + dy * dy <= r2
+                            && segment_clear(&g, cell, *b, |j| k[j] != CellState::Occupied)
+                        {
+                            sees += 1;
+                        }
+                    }
+                    *known = if cut {
+                        Known::Below(need)
+                    } else {
+                        Known::Exact(sees)
+                    };
+                    sees
                 }
-                let (dx, dy) = (b.x as f64 - cell.x as f64, b.y as f64 - cell.y as f64);
-                if dx * dx + dy * dy <= r2
-                    && segment_clear(&g, cell, *b, |j| k[j] != CellState::Occupied)
-                {
-                    sees += 1;
-                }
-            }
+            };
             if sees < need {
                 continue;
             }
@@ -162,12 +281,53 @@ fn best_of_group(
                 best = Some((sees, facing, cost(i), cell));
             }
         }
+        best.map(|(sees, _, _, cell)| Viewpoint {
+            cell,
+            sees,
+            tested: tested.len(),
+        })
     }
-    best.map(|(sees, _, _, cell)| Viewpoint {
-        cell,
-        sees,
-        tested: tested.len(),
-    })
+}
+
+/// The border groups' looks kept across scans (FUEL's incremental frontier
+/// structure, in small): a planning round takes them, the groups it finds
+/// unchanged keep what their sight lines showed, and [`Self::forget`] drops
+/// the looks a scan may have changed.
+#[derive(Debug, Default)]
+pub(super) struct KeptLooks {
+    looks: Mutex<HashMap<Vec<usize>, GroupLook>>,
+}
+
+impl Clone for KeptLooks {
+    /// A copy starts with nothing kept (the answers stay the same).
+    fn clone(&self) -> Self {
+        Self::default()
+    }
+}
+
+impl KeptLooks {
+    /// Takes every kept look out.
+    fn take(&self) -> HashMap<Vec<usize>, GroupLook> {
+        self.looks
+            .lock()
+            .map(|mut l| std::mem::take(&mut *l))
+            .unwrap_or_default()
+    }
+
+    /// Keeps `looks` (the current groups') in place of whatever was kept.
+    fn put(&self, looks: Vec<GroupLook>) {
+        if let Ok(mut kept) = self.looks.lock() {
+            *kept = looks.into_iter().map(|l| (l.cells.clone(), l)).collect();
+        }
+    }
+
+    /// Drops the looks that depend on a cell of `changed` (the bounding box of
+    /// the cells a scan changed).
+    pub(super) fn forget(&mut self, changed: &Window) {
+        if let Ok(looks) = self.looks.get_mut() {
+            looks.retain(|_, l| !l.window.meets(changed));
+        }
+    }
 }
 
 #[cfg(test)]
