@@ -21,18 +21,38 @@ pub struct Pick {
 
 /// Greedy cover of the targets `0..targets` by `sets` (each a list of target
 /// indices), until every target that any set holds is covered. Picks in order.
-pub fn lazy_greedy(sets: &[Vec<u32>], targets: usize) -> Vec<Pick> {
+pub fn lazy_greedy<S: AsRef<[u32]>>(sets: &[S], targets: usize) -> Vec<Pick> {
+    lazy_greedy_while(sets, targets, 1)
+}
+
+/// The picks of [`lazy_greedy`] as long as each adds at least `min_gain`
+/// targets. A greedy cover's gains never grow from one pick to the next, so
+/// the search stops once no set's bound reaches `min_gain` instead of covering
+/// the rest.
+pub fn lazy_greedy_while<S: AsRef<[u32]>>(
+    sets: &[S],
+    targets: usize,
+    min_gain: usize,
+) -> Vec<Pick> {
+    let min_gain = min_gain.max(1);
     let mut covered = vec![false; targets];
     let mut heap: BinaryHeap<(usize, Reverse<usize>)> = sets
         .iter()
         .enumerate()
-        .filter(|(_, s)| !s.is_empty())
-        .map(|(j, s)| (s.len(), Reverse(j)))
+        .filter(|(_, s)| !s.as_ref().is_empty())
+        .map(|(j, s)| (s.as_ref().len(), Reverse(j)))
         .collect();
     let mut picks = Vec::new();
     let mut total = 0usize;
     while let Some((stale, Reverse(j))) = heap.pop() {
-        let gain = sets[j].iter().filter(|&&t| !covered[t as usize]).count();
+        if stale < min_gain {
+            break;
+        }
+        let gain = sets[j]
+            .as_ref()
+            .iter()
+            .filter(|&&t| !covered[t as usize])
+            .count();
         if gain == 0 {
             continue;
         }
@@ -51,7 +71,10 @@ pub fn lazy_greedy(sets: &[Vec<u32>], targets: usize) -> Vec<Pick> {
                 }
             }
         }
-        for &t in &sets[j] {
+        if gain < min_gain {
+            break;
+        }
+        for &t in sets[j].as_ref() {
             covered[t as usize] = true;
         }
         total += gain;
@@ -113,6 +136,21 @@ mod tests {
         ) {
             let sets: Vec<Vec<u32>> = sets.into_iter().map(|s| s.into_iter().collect()).collect();
             prop_assert_eq!(lazy_greedy(&sets, 40), plain_greedy(&sets, 40));
+        }
+
+        /// Stopped at a least gain: the plain greedy's picks up to the first
+        /// that adds less.
+        #[test]
+        fn stopped_lazy_equals_the_plain_greedys_prefix(
+            sets in prop::collection::vec(prop::collection::btree_set(0u32..40, 0..12), 1..25),
+            min_gain in 0usize..8,
+        ) {
+            let sets: Vec<Vec<u32>> = sets.into_iter().map(|s| s.into_iter().collect()).collect();
+            let prefix: Vec<Pick> = plain_greedy(&sets, 40)
+                .into_iter()
+                .take_while(|p| p.gain >= min_gain)
+                .collect();
+            prop_assert_eq!(lazy_greedy_while(&sets, 40, min_gain), prefix);
         }
     }
 }

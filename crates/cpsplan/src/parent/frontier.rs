@@ -109,7 +109,10 @@ impl Frontier {
         valid: impl Fn(usize) -> bool + Sync,
         cost: impl Fn(usize) -> f64 + Sync,
     ) -> Vec<Viewpoint> {
-        let significant = &self.significant;
+        let flags = &self.flags;
+        let significant = (&self.significant[..], |j: usize| {
+            flags[j] & SIGNIFICANT != 0
+        });
         viewpoints_kept(
             knowledge,
             significant,

@@ -14,6 +14,7 @@
 
 use std::borrow::Cow;
 use std::collections::HashSet;
+use std::sync::Arc;
 
 use rand_chacha::ChaCha8Rng;
 use rayon::prelude::*;
@@ -312,19 +313,17 @@ pub fn plan_parent_with_field(
         near_cells: 0,
         m2: 0.0,
     };
-    let view = |cell: Cell| -> (Gain, Vec<u32>) {
+    let view = |cell: Cell| -> (Gain, Arc<[u32]>) {
         if !valid(g.index(cell)) {
-            return (none, Vec::new());
+            return (none, Arc::from(Vec::new()));
         }
-        let mut cells = Vec::new();
-        let gain = gain.view(knowledge, cell, range_cells, |i| {
-            if tour {
-                cells.push(i as u32);
-            }
-        });
-        (gain, cells)
+        if tour {
+            gain.view(knowledge, cell, range_cells)
+        } else {
+            (gain.at(knowledge, cell, range_cells), Arc::from(Vec::new()))
+        }
     };
-    let (gains, mut views): (Vec<Gain>, Vec<Vec<u32>>) =
+    let (gains, mut views): (Vec<Gain>, Vec<Arc<[u32]>>) =
         plan.candidates.par_iter().map(|c| view(c.cell)).unzip();
     let mut worth: Vec<bool> = Vec::with_capacity(plan.candidates.len());
     for (c, s) in plan.candidates.iter_mut().zip(&gains) {

@@ -22,10 +22,12 @@
 //! - *Refinement*: the chosen position hill-climbs on the gain estimate, so the
 //!   scan stands where it sees most, not where the k-means centroid fell.
 
+use std::sync::Arc;
+
 use super::candidate::{candidate_terms, fill_terms, set_gain, Candidate};
 use crate::config::Config;
 use crate::geom::Cell;
-use crate::grid::cover::lazy_greedy;
+use crate::grid::cover::lazy_greedy_while;
 use crate::grid::line::segment_clear;
 use crate::grid::travel::{descend, STRAIGHT};
 use crate::grid::{DistanceField, GridGeometry, OccupancyGrid, Traversability};
@@ -49,11 +51,15 @@ impl TourRound<'_> {
     /// the front and refines its position; returns its index. `views[i]`:
     /// the frontier cells candidate `i` would see, in any order (those of candidates
     /// that are not eligible are dropped here).
-    pub fn target(&self, candidates: &mut [Candidate], mut views: Vec<Vec<u32>>) -> Option<usize> {
+    pub fn target(
+        &self,
+        candidates: &mut [Candidate],
+        mut views: Vec<Arc<[u32]>>,
+    ) -> Option<usize> {
         let g = self.knowledge.geometry();
         for (c, v) in candidates.iter().zip(&mut views) {
             if !c.eligible {
-                v.clear();
+                *v = Arc::from(Vec::new());
             }
         }
         let per_cell = self.gain.m2(1);
@@ -164,10 +170,13 @@ impl TourRound<'_> {
 /// The candidates that cover the frontier, by lazy greedy over `views` (each
 /// candidate's frontier cells, in any order), as long as a pick adds at least
 /// `min_cells` (and at least one); indices into `views`.
-pub fn covering_candidates(views: &[Vec<u32>], cells: usize, min_cells: usize) -> Vec<usize> {
-    lazy_greedy(views, cells)
+pub fn covering_candidates<S: AsRef<[u32]>>(
+    views: &[S],
+    cells: usize,
+    min_cells: usize,
+) -> Vec<usize> {
+    lazy_greedy_while(views, cells, min_cells)
         .into_iter()
-        .take_while(|p| p.gain >= min_cells.max(1))
         .map(|p| p.station)
         .collect()
 }

@@ -69,14 +69,23 @@ pub fn viewpoints(
     valid: impl Fn(usize) -> bool + Sync,
     cost: impl Fn(usize) -> f64 + Sync,
 ) -> Vec<Viewpoint> {
-    viewpoints_kept(knowledge, significant, range_cells, valid, cost, None)
+    viewpoints_kept(
+        knowledge,
+        (significant, |_| true),
+        range_cells,
+        valid,
+        cost,
+        None,
+    )
 }
 
 /// [`viewpoints`], with what earlier calls found out about each group's ring
 /// positions taken from and given back to `kept` (the same answers).
+/// `maybe(index)` is a quick test that may say a cell is significant when it
+/// is not, never the other way round (it spares the search of the list).
 pub(super) fn viewpoints_kept(
     knowledge: &OccupancyGrid,
-    significant: &[usize],
+    (significant, maybe): (&[usize], impl Fn(usize) -> bool),
     range_cells: f64,
     valid: impl Fn(usize) -> bool + Sync,
     cost: impl Fn(usize) -> f64 + Sync,
@@ -92,10 +101,11 @@ pub(super) fn viewpoints_kept(
             continue;
         }
         flood_group(&g, start, &mut group, |j| {
-            match significant.binary_search(&j) {
-                Ok(p) => !std::mem::replace(&mut taken[p], true),
-                Err(_) => false,
-            }
+            maybe(j)
+                && match significant.binary_search(&j) {
+                    Ok(p) => !std::mem::replace(&mut taken[p], true),
+                    Err(_) => false,
+                }
         });
         if group.len() >= MIN_GROUP {
             groups.push(group.clone());

@@ -90,30 +90,33 @@ impl GainEstimate {
     /// The gain of a scan from `at` within `range_cells` (one visibility sweep,
     /// the rule of [`super::expected_gain`]).
     pub fn at(&self, knowledge: &OccupancyGrid, at: Cell, range_cells: f64) -> Gain {
-        self.kept_view(knowledge, at, range_cells, None)
+        self.kept_view(knowledge, at, range_cells, false).0
     }
 
-    /// [`Self::at`], calling `on_near(index)` for every counted cell near known
-    /// free space (the cells the estimate stands for).
+    /// [`Self::at`] with the counted cells near known free space (the cells
+    /// the estimate stands for), as indices in the order counted, shared with
+    /// the kept view when there is one. On a grid of more than `u32::MAX`
+    /// cells the list is empty.
     pub fn view(
         &self,
         knowledge: &OccupancyGrid,
         at: Cell,
         range_cells: f64,
-        on_near: impl FnMut(usize),
-    ) -> Gain {
-        self.kept_view(knowledge, at, range_cells, Some(&mut { on_near }))
+    ) -> (Gain, Arc<[u32]>) {
+        let listed = u32::try_from(knowledge.geometry().len()).is_ok();
+        let (gain, cells) = self.kept_view(knowledge, at, range_cells, listed);
+        (gain, cells.unwrap_or_else(|| Arc::from(Vec::new())))
     }
 
     /// A view, from the kept ones where there is one (with its near cells
-    /// when `on_near` wants them), else counted and kept.
+    /// when `listed` asks for them), else counted and kept.
     fn kept_view(
         &self,
         knowledge: &OccupancyGrid,
         at: Cell,
         range_cells: f64,
-        on_near: Option<&mut dyn FnMut(usize)>,
-    ) -> Gain {
+        listed: bool,
+    ) -> (Gain, Option<Arc<[u32]>>) {
         let gain = |s: usize, near: usize| Gain {
             s_cells: s,
             near_cells: near,
@@ -121,13 +124,8 @@ impl GainEstimate {
         };
         let index = knowledge.geometry().index(at);
         let kept = self.kept_for(knowledge);
-        let mut on_near = on_near;
-        let wants = on_near.is_some();
-        if let Some(v) = kept.and_then(|k| k.get(index, range_cells, wants)) {
-            if let (Some(f), Some(cells)) = (on_near, v.cells.as_ref()) {
-                cells.iter().for_each(|&i| f(i as usize));
-            }
-            return gain(v.unknown, v.near);
+        if let Some(v) = kept.and_then(|k| k.get(index, range_cells, listed)) {
+            return (gain(v.unknown, v.near), v.cells.clone().filter(|_| listed));
         }
         let mut cells = Vec::new();
         let (s, near) = self.count(
@@ -135,15 +133,13 @@ impl GainEstimate {
             at,
             range_cells,
             |i| {
-                if let Some(f) = on_near.as_deref_mut() {
-                    f(i);
-                    if kept.is_some() {
-                        cells.push(i as u32);
-                    }
+                if listed {
+                    cells.push(i as u32);
                 }
             },
             |_, _| false,
         );
+        let cells: Option<Arc<[u32]>> = listed.then(|| Arc::from(cells));
         if let Some(k) = kept {
             k.put(
                 index,
@@ -151,11 +147,11 @@ impl GainEstimate {
                 KeptView {
                     unknown: s,
                     near,
-                    cells: wants.then(|| Arc::from(cells)),
+                    cells: cells.clone(),
                 },
             );
         }
-        gain(s, near)
+        (gain(s, near), cells)
     }
 
     /// Whether a scan from `at` is worth planning ([`Self::worth_a_scan`] of
@@ -576,7 +572,7 @@ mod tests {
                 for &p in &probes {
                     for r in ranges {
                         kept.at(&knowledge, p, r);
-                        kept.view(&knowledge, p, r, |_| {});
+                        kept.view(&knowledge, p, r);
                     }
                 }
                 let mut changed = Vec::new();
@@ -590,9 +586,8 @@ mod tests {
                 );
                 for &p in &probes {
                     for r in ranges {
-                        let (mut ca, mut cb) = (Vec::new(), Vec::new());
-                        let va = a.view(&knowledge, p, r, |i| ca.push(i));
-                        let vb = b.view(&knowledge, p, r, |i| cb.push(i));
+                        let (va, ca) = a.view(&knowledge, p, r);
+                        let (vb, cb) = b.view(&knowledge, p, r);
                         proptest::prop_assert_eq!(va, vb, "{:?} at {}", p, r);
                         proptest::prop_assert_eq!(&ca, &cb);
                         proptest::prop_assert_eq!(a.at(&knowledge, p, r), vb);
