@@ -311,7 +311,7 @@ mod tests {
                 let changed = paint(&mut knowledge, (ex, ey, ew, eh), STATES[es]);
                 state.update(&knowledge, &changed);
                 let k = knowledge.cells();
-                let valid = |i: usize| k[i] == CellState::Free && (i + salt) % 5 != 0;
+                let valid = |i: usize| k[i] == CellState::Free && !(i + salt).is_multiple_of(5);
                 let cost = |i: usize| ((i * 7919 + salt) % 13) as f64;
                 let fresh = super::super::viewpoints(&knowledge, state.significant(), range, valid, cost);
                 prop_assert_eq!(state.viewpoints(&knowledge, range, valid, cost), fresh.clone());
