@@ -3,7 +3,7 @@
 //! map, at every step, each candidate's gain estimate equals the estimate of
 //! the step's knowledge map computed afresh, and so do the round's border, band
 //! and samples and each candidate's `R`, clearance and travel distance, and the
-//! Voronoi diagram the children drive along.
+//! Voronoi diagram the children drive along, and the border groups' viewpoints.
 
 use cpsplan::config::Planner;
 use cpsplan::sensing::GainEstimate;
@@ -135,5 +135,75 @@ fn kept_voronoi_field_gives_the_fresh_diagram_on_the_builtin_maps() {
         })
         .expect("the episode runs");
         assert!(checked > 5, "{map:?}: only {checked} steps");
+    }
+}
+
+/// The border groups' looks kept across scans (`Frontier::viewpoints`): at
+/// every step of episodes on the built-in maps, alone and with the default
+/// team, the round's viewpoint candidates are those of a viewpoint search
+/// computed afresh from the step's knowledge map, border, drivable cells and
+/// travel sweep (the one a tour's hill climb moved is checked by count only).
+#[test]
+fn kept_viewpoints_equal_fresh_ones_on_the_builtin_maps() {
+    use cpsplan::grid::travel::sweep;
+    use cpsplan::grid::{Traversability, UNREACHED};
+    use cpsplan::parent::{viewpoints, CandidateOrigin, Frontier};
+    use std::collections::HashSet;
+    for map in BuiltinMap::ALL {
+        for children in [0, 2] {
+            let truth = map.generate(0);
+            let mut config = Config::default();
+            config.children.count = children;
+            config.mission.max_scans = 40;
+            let range = config.range_cells();
+            let mut checked = 0usize;
+            run_episode_with(&truth, map.default_start(), &config, |step, knowledge| {
+                let g = *knowledge.geometry();
+                let at = format!("{map:?} children {children} scan {}", step.scan);
+                let plan = &step.plan;
+                if plan.candidates.is_empty() {
+                    return;
+                }
+                let frontier = Frontier::new(knowledge, &config.parent);
+                let trav = Traversability::new(knowledge, config.robot.radius, step.cell);
+                let field = sweep(&g, &trav.passable, &[g.index(step.cell)], UNREACHED);
+                let valid = |i: usize| trav.traversable[i] && field.reached(i);
+                let cost = |i: usize| field.metres(i).unwrap_or(f64::INFINITY);
+                let mut seen: HashSet<_> = plan
+                    .candidates
+                    .iter()
+                    .filter(|c| {
+                        matches!(
+                            c.origin,
+                            CandidateOrigin::Centroid | CandidateOrigin::Snapped
+                        )
+                    })
+                    .map(|c| c.cell)
+                    .collect();
+                let want: Vec<_> =
+                    viewpoints(knowledge, frontier.significant(), range, valid, cost)
+                        .into_iter()
+                        .map(|v| v.cell)
+                        .filter(|&c| seen.insert(c))
+                        .collect();
+                let got: Vec<_> = plan
+                    .candidates
+                    .iter()
+                    .filter(|c| c.origin == CandidateOrigin::Viewpoint)
+                    .collect();
+                assert_eq!(got.len(), want.len(), "{at}: viewpoints");
+                for (c, &w) in got.iter().zip(&want) {
+                    if !c.refined {
+                        assert_eq!(c.cell, w, "{at}: a viewpoint");
+                        checked += 1;
+                    }
+                }
+            })
+            .expect("the episode runs");
+            assert!(
+                checked > 20,
+                "{map:?} children {children}: only {checked} viewpoints"
+            );
+        }
     }
 }
