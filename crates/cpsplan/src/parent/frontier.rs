@@ -110,12 +110,10 @@ impl Frontier {
         cost: impl Fn(usize) -> f64 + Sync,
     ) -> Vec<Viewpoint> {
         let flags = &self.flags;
-        let significant = (&self.significant[..], |j: usize| {
-            flags[j] & SIGNIFICANT != 0
-        });
         viewpoints_kept(
             knowledge,
-            significant,
+            &self.significant,
+            |j| flags[j] & SIGNIFICANT != 0,
             range_cells,
             valid,
             cost,

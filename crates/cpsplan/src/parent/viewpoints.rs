@@ -71,7 +71,8 @@ pub fn viewpoints(
 ) -> Vec<Viewpoint> {
     viewpoints_kept(
         knowledge,
-        (significant, |_| true),
+        significant,
+        |_| true,
         range_cells,
         valid,
         cost,
@@ -81,11 +82,13 @@ pub fn viewpoints(
 
 /// [`viewpoints`], with what earlier calls found out about each group's ring
 /// positions taken from and given back to `kept` (the same answers).
-/// `maybe(index)` is a quick test that may say a cell is significant when it
-/// is not, never the other way round (it spares the search of the list).
+/// `maybe_significant(index)` is a quick test that may say a cell is
+/// significant when it is not, never the other way round (it spares the search
+/// of the list).
 pub(super) fn viewpoints_kept(
     knowledge: &OccupancyGrid,
-    (significant, maybe): (&[usize], impl Fn(usize) -> bool),
+    significant: &[usize],
+    maybe_significant: impl Fn(usize) -> bool,
     range_cells: f64,
     valid: impl Fn(usize) -> bool + Sync,
     cost: impl Fn(usize) -> f64 + Sync,
@@ -101,7 +104,7 @@ pub(super) fn viewpoints_kept(
             continue;
         }
         flood_group(&g, start, &mut group, |j| {
-            maybe(j)
+            maybe_significant(j)
                 && match significant.binary_search(&j) {
                     Ok(p) => !std::mem::replace(&mut taken[p], true),
                     Err(_) => false,
@@ -115,7 +118,7 @@ pub(super) fn viewpoints_kept(
     let mut looks: Vec<GroupLook> = groups
         .into_iter()
         .map(|group| match store.remove(&group) {
-            Some(look) if look.range_bits == range_cells.to_bits() => look,
+            Some(look) if look.range_cells.to_bits() == range_cells.to_bits() => look,
             _ => GroupLook::new(knowledge, group, range_cells),
         })
         .collect();
@@ -163,8 +166,7 @@ pub(super) struct GroupLook {
     /// The cells the look depends on: the group's bounding box grown by the
     /// largest ring and a cell.
     window: Window,
-    /// The range the counts were made for (its bits).
-    range_bits: u64,
+    /// The range the counts were made for, cells.
     range_cells: f64,
 }
 
@@ -212,7 +214,6 @@ impl GroupLook {
             normal: (nx, ny, nx.hypot(ny)),
             positions,
             window,
-            range_bits: range_cells.to_bits(),
             range_cells,
         }
     }
