@@ -2,8 +2,8 @@
 //! planner exactly what a from-scratch computation gives: on every built-in
 //! map, at every step, each candidate's gain estimate equals the estimate of
 //! the step's knowledge map computed afresh, and so do the round's border, band
-//! and samples and each candidate's `R`, clearance and travel distance, and the
-//! Voronoi diagram the children drive along, and the border groups' viewpoints.
+//! and samples, each candidate's `R`, clearance and travel distance, the border
+//! groups' viewpoints and the Voronoi diagram the children drive along.
 
 use cpsplan::config::Planner;
 use cpsplan::sensing::GainEstimate;
@@ -51,7 +51,9 @@ fn kept_gain_field_equals_a_fresh_one_on_the_builtin_maps() {
 /// episodes on the built-in maps, alone and with the default team, the round's
 /// border and band sizes, its samples and every candidate's `R`, clearance and
 /// `L` are those of a border, band, traversability and travel sweep computed
-/// afresh from the step's knowledge map.
+/// afresh from the step's knowledge map; so are its viewpoint candidates (the
+/// border groups' looks kept across scans, `Frontier::viewpoints`), those of a
+/// viewpoint search on the fresh border, drivable cells and sweep.
 #[test]
 fn kept_border_band_and_drivable_cells_equal_fresh_ones_on_the_builtin_maps() {
     use cpsplan::grid::travel::sweep;
@@ -63,7 +65,7 @@ fn kept_border_band_and_drivable_cells_equal_fresh_ones_on_the_builtin_maps() {
             let mut config = Config::default();
             config.children.count = children;
             config.mission.max_scans = 40;
-            let mut checked = 0usize;
+            let (mut checked, mut viewpoints) = (0usize, 0usize);
             run_episode_with(&truth, map.default_start(), &config, |step, knowledge| {
                 let g = *knowledge.geometry();
                 let frontier = Frontier::new(knowledge, &config.parent);
@@ -93,11 +95,18 @@ fn kept_border_band_and_drivable_cells_equal_fresh_ones_on_the_builtin_maps() {
                     }
                     checked += 1;
                 }
+                let range = config.range_cells();
+                viewpoints +=
+                    fresh_viewpoints_match(step, knowledge, &frontier, &trav, &field, range);
             })
             .expect("the episode runs");
             assert!(
                 checked > 40,
                 "{map:?} children {children}: only {checked} candidates"
+            );
+            assert!(
+                viewpoints > 20,
+                "{map:?} children {children}: only {viewpoints} viewpoints"
             );
         }
     }
@@ -138,72 +147,52 @@ fn kept_voronoi_field_gives_the_fresh_diagram_on_the_builtin_maps() {
     }
 }
 
-/// The border groups' looks kept across scans (`Frontier::viewpoints`): at
-/// every step of episodes on the built-in maps, alone and with the default
-/// team, the round's viewpoint candidates are those of a viewpoint search
-/// computed afresh from the step's knowledge map, border, drivable cells and
-/// travel sweep (the one a tour's hill climb moved is checked by count only).
-#[test]
-fn kept_viewpoints_equal_fresh_ones_on_the_builtin_maps() {
-    use cpsplan::grid::travel::sweep;
-    use cpsplan::grid::{Traversability, UNREACHED};
-    use cpsplan::parent::{viewpoints, CandidateOrigin, Frontier};
+/// Asserts that the round's viewpoint candidates are those of a fresh viewpoint
+/// search on `frontier`, `trav` and `field` (the step's own, computed afresh);
+/// the one a tour's hill climb moved is checked by count only. Returns how many
+/// were compared by cell.
+fn fresh_viewpoints_match(
+    step: &cpsplan::mission::Step,
+    knowledge: &cpsplan::OccupancyGrid,
+    frontier: &cpsplan::parent::Frontier,
+    trav: &cpsplan::grid::Traversability,
+    field: &cpsplan::grid::DistanceField,
+    range: f64,
+) -> usize {
+    use cpsplan::parent::{viewpoints, CandidateOrigin};
     use std::collections::HashSet;
-    for map in BuiltinMap::ALL {
-        for children in [0, 2] {
-            let truth = map.generate(0);
-            let mut config = Config::default();
-            config.children.count = children;
-            config.mission.max_scans = 40;
-            let range = config.range_cells();
-            let mut checked = 0usize;
-            run_episode_with(&truth, map.default_start(), &config, |step, knowledge| {
-                let g = *knowledge.geometry();
-                let at = format!("{map:?} children {children} scan {}", step.scan);
-                let plan = &step.plan;
-                if plan.candidates.is_empty() {
-                    return;
-                }
-                let frontier = Frontier::new(knowledge, &config.parent);
-                let trav = Traversability::new(knowledge, config.robot.radius, step.cell);
-                let field = sweep(&g, &trav.passable, &[g.index(step.cell)], UNREACHED);
-                let valid = |i: usize| trav.traversable[i] && field.reached(i);
-                let cost = |i: usize| field.metres(i).unwrap_or(f64::INFINITY);
-                let mut seen: HashSet<_> = plan
-                    .candidates
-                    .iter()
-                    .filter(|c| {
-                        matches!(
-                            c.origin,
-                            CandidateOrigin::Centroid | CandidateOrigin::Snapped
-                        )
-                    })
-                    .map(|c| c.cell)
-                    .collect();
-                let want: Vec<_> =
-                    viewpoints(knowledge, frontier.significant(), range, valid, cost)
-                        .into_iter()
-                        .map(|v| v.cell)
-                        .filter(|&c| seen.insert(c))
-                        .collect();
-                let got: Vec<_> = plan
-                    .candidates
-                    .iter()
-                    .filter(|c| c.origin == CandidateOrigin::Viewpoint)
-                    .collect();
-                assert_eq!(got.len(), want.len(), "{at}: viewpoints");
-                for (c, &w) in got.iter().zip(&want) {
-                    if !c.refined {
-                        assert_eq!(c.cell, w, "{at}: a viewpoint");
-                        checked += 1;
-                    }
-                }
-            })
-            .expect("the episode runs");
-            assert!(
-                checked > 20,
-                "{map:?} children {children}: only {checked} viewpoints"
-            );
+    let plan = &step.plan;
+    let at = format!("scan {} at {:?}", step.scan, step.cell);
+    let valid = |i: usize| trav.traversable[i] && field.reached(i);
+    let cost = |i: usize| field.metres(i).unwrap_or(f64::INFINITY);
+    let mut seen: HashSet<_> = plan
+        .candidates
+        .iter()
+        .filter(|c| {
+            matches!(
+                c.origin,
+                CandidateOrigin::Centroid | CandidateOrigin::Snapped
+            )
+        })
+        .map(|c| c.cell)
+        .collect();
+    let want: Vec<_> = viewpoints(knowledge, frontier.significant(), range, valid, cost)
+        .into_iter()
+        .map(|v| v.cell)
+        .filter(|&c| seen.insert(c))
+        .collect();
+    let got: Vec<_> = plan
+        .candidates
+        .iter()
+        .filter(|c| c.origin == CandidateOrigin::Viewpoint)
+        .collect();
+    assert_eq!(got.len(), want.len(), "{at}: viewpoints");
+    let mut compared = 0;
+    for (c, &w) in got.iter().zip(&want) {
+        if !c.refined {
+            assert_eq!(c.cell, w, "{at}: a viewpoint");
+            compared += 1;
         }
     }
+    compared
 }

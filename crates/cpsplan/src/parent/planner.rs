@@ -315,12 +315,12 @@ pub fn plan_parent_with_field(
     };
     let view = |cell: Cell| -> (Gain, Arc<[u32]>) {
         if !valid(g.index(cell)) {
-            return (none, Arc::from(Vec::new()));
+            return (none, Arc::default());
         }
         if tour {
             gain.view(knowledge, cell, range_cells)
         } else {
-            (gain.at(knowledge, cell, range_cells), Arc::from(Vec::new()))
+            (gain.at(knowledge, cell, range_cells), Arc::default())
         }
     };
     let (gains, mut views): (Vec<Gain>, Vec<Arc<[u32]>>) =

@@ -59,7 +59,7 @@ impl TourRound<'_> {
         let g = self.knowledge.geometry();
         for (c, v) in candidates.iter().zip(&mut views) {
             if !c.eligible {
-                *v = Arc::from(Vec::new());
+                *v = Arc::default();
             }
         }
         let per_cell = self.gain.m2(1);

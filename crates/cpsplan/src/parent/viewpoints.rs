@@ -115,17 +115,20 @@ pub(super) fn viewpoints_kept(
         }
     }
     let mut store = kept.map(KeptLooks::take).unwrap_or_default();
-    let mut looks: Vec<GroupLook> = groups
+    let mut looks: Vec<(Vec<usize>, GroupLook)> = groups
         .into_iter()
-        .map(|group| match store.remove(&group) {
-            Some(look) if look.range_cells.to_bits() == range_cells.to_bits() => look,
-            _ => GroupLook::new(knowledge, group, range_cells),
+        .map(|group| {
+            let look = match store.remove(&group) {
+                Some(look) if look.range_cells.to_bits() == range_cells.to_bits() => look,
+                _ => GroupLook::new(knowledge, &group, range_cells),
+            };
+            (group, look)
         })
         .collect();
     // Each group's search is independent: in parallel, in the groups' order.
     let found = looks
         .par_iter_mut()
-        .filter_map(|look| look.best(knowledge, &valid, &cost))
+        .filter_map(|(_, look)| look.best(knowledge, &valid, &cost))
         .collect();
     if let Some(k) = kept {
         k.put(looks);
@@ -146,11 +149,10 @@ enum Known {
 
 /// One border group's ring positions and what their sight lines showed: all of
 /// it depends only on the knowledge map within [`GroupLook::window`], so it
-/// holds until a scan changes something there.
+/// holds until a scan changes something there. Kept under the group's border
+/// cells, in flood order.
 #[derive(Debug, Clone)]
 pub(super) struct GroupLook {
-    /// The group's border cells, in flood order (the key).
-    cells: Vec<usize>,
     /// The evenly spaced border cells whose sight is tested.
     tested: Vec<Cell>,
     /// The tested cells' centre, grid units.
@@ -172,7 +174,7 @@ pub(super) struct GroupLook {
 
 impl GroupLook {
     /// The look of one border group (cell indices) with nothing counted yet.
-    fn new(knowledge: &OccupancyGrid, cells: Vec<usize>, range_cells: f64) -> Self {
+    fn new(knowledge: &OccupancyGrid, cells: &[usize], range_cells: f64) -> Self {
         let g = *knowledge.geometry();
         let k = knowledge.cells();
         let step = cells.len().div_ceil(SAMPLED_BORDER).max(1);
@@ -182,7 +184,7 @@ impl GroupLook {
             .fold((0.0, 0.0), |(x, y), c| (x + c.x as f64, y + c.y as f64));
         let (cx, cy) = (cx / tested.len() as f64, cy / tested.len() as f64);
         let (mut nx, mut ny) = (0.0f64, 0.0f64);
-        for &i in &cells {
+        for &i in cells {
             let c = g.cell(i);
             for (dx, dy) in [(1i64, 0i64), (-1, 0), (0, 1), (0, -1)] {
                 let beside = g.checked_cell(c.x as i64 + dx, c.y as i64 + dy);
@@ -203,12 +205,11 @@ impl GroupLook {
             }
         }
         let reach = (RADII_M[RADII_M.len() - 1] / g.resolution).ceil() as usize + 1;
-        let window = Window::bounding(&g, &cells)
+        let window = Window::bounding(&g, cells)
             .expect("a group has cells")
             .grow(reach, &g);
         Self {
             known: vec![Known::Untested; positions.len()],
-            cells,
             tested,
             centre: (cx, cy),
             normal: (nx, ny, nx.hypot(ny)),
@@ -325,10 +326,11 @@ impl KeptLooks {
             .unwrap_or_default()
     }
 
-    /// Keeps `looks` (the current groups') in place of whatever was kept.
-    fn put(&self, looks: Vec<GroupLook>) {
+    /// Keeps `looks` (the current groups', under their cells) in place of
+    /// whatever was kept.
+    fn put(&self, looks: Vec<(Vec<usize>, GroupLook)>) {
         if let Ok(mut kept) = self.looks.lock() {
-            *kept = looks.into_iter().map(|l| (l.cells.clone(), l)).collect();
+            *kept = looks.into_iter().collect();
         }
     }
 

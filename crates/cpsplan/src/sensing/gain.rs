@@ -105,7 +105,7 @@ impl GainEstimate {
     ) -> (Gain, Arc<[u32]>) {
         let listed = u32::try_from(knowledge.geometry().len()).is_ok();
         let (gain, cells) = self.kept_view(knowledge, at, range_cells, listed);
-        (gain, cells.unwrap_or_else(|| Arc::from(Vec::new())))
+        (gain, cells.unwrap_or_default())
     }
 
     /// A view, from the kept ones where there is one (with its near cells
