@@ -10,7 +10,8 @@
 //! - [`occupancy`]: cell states, the grid's placement in the world (DESIGN.md
 //!   "Frames").
 //! - [`distance`]: exact Euclidean distance and feature transforms.
-//! - [`travel`]: travel-distance sweeps (Dial's bucket queue) and descent to a path.
+//! - [`travel`]: travel-distance sweeps (canonical Dijkstra; Dial's bucket queue for
+//!   short ones) and descent to a path.
 //! - [`traversal`]: the cells a segment crosses with its parameter at each
 //!   (Amanatides–Woo).
 //! - [`search`]: early-stopping Dijkstra / A* with the sweep's step costs.
