@@ -94,40 +94,31 @@ pub(super) fn corners(g: &GridGeometry, drivable: &[bool]) -> (Vec<Cell>, Vec<Ce
     (merge_close(candidates.concat(), MERGE_DISTANCE), detail)
 }
 
+/// Lattice corners passed over at once while looking for a crack to follow.
+const SKIP: usize = 64;
+
 /// The closed outlines of the non-drivable region, as the lattice corners where
 /// they turn, with the drivable side on the left.
 fn trace_contours(g: &GridGeometry, drivable: &[bool]) -> Vec<Vec<(i64, i64)>> {
-    let (w, h) = (g.width as i64, g.height as i64);
-    let lw = w + 1;
-    let free =
-        |x: i64, y: i64| x >= 0 && y >= 0 && x < w && y < h && drivable[(y * w + x) as usize];
-    // Outgoing crack directions (bit d for DIRS[d]) per lattice corner.
-    let mut out = vec![0u8; ((w + 1) * (h + 1)) as usize];
+    let lw = g.width as i64 + 1;
+    let mut out = cracks(g, drivable);
     let at = |x: i64, y: i64| (y * lw + x) as usize;
-    for y in 0..h {
-        for x in 0..w {
-            if !free(x, y) {
-                continue;
-            }
-            if !free(x, y - 1) {
-                out[at(x, y)] |= 1 << 0; // east along the bottom
-            }
-            if !free(x + 1, y) {
-                out[at(x + 1, y)] |= 1 << 1; // north along the right side
-            }
-            if !free(x, y + 1) {
-                out[at(x + 1, y + 1)] |= 1 << 2; // west along the top
-            }
-            if !free(x - 1, y) {
-                out[at(x, y + 1)] |= 1 << 3; // south along the left side
-            }
-        }
-    }
     let mut contours = Vec::new();
     // Start at corners with a single crack first, so that no contour is cut at a
     // saddle; a second pass picks up anything left (none in practice).
     for single_only in [true, false] {
-        for p in 0..out.len() {
+        let mut p = 0;
+        while p < out.len() {
+            // Cracks are only ever taken away, so a block of corners without one
+            // stays without.
+            if p % SKIP == 0
+                && out
+                    .get(p..p + SKIP)
+                    .is_some_and(|b| b.iter().fold(0, |m, &c| m | c) == 0)
+            {
+                p += SKIP;
+                continue;
+            }
             while out[p] != 0 && (!single_only || out[p].count_ones() == 1) {
                 let (sx, sy) = ((p as i64) % lw, (p as i64) / lw);
                 let mut d = out[p].trailing_zeros() as usize;
@@ -151,9 +142,42 @@ fn trace_contours(g: &GridGeometry, drivable: &[bool]) -> Vec<Vec<(i64, i64)>> {
                 }
                 contours.push(contour);
             }
+            p += 1;
         }
     }
     contours
+}
+
+/// The outgoing crack directions (bit `d` for `DIRS[d]`) of every lattice corner
+/// (`(width + 1) × (height + 1)`, row by row): the sides between a drivable cell
+/// and a non-drivable one or the outside, the drivable cell on the left.
+fn cracks(g: &GridGeometry, drivable: &[bool]) -> Vec<u8> {
+    let (w, h) = (g.width, g.height);
+    let lw = w + 1;
+    let mut out = vec![0u8; lw * (h + 1)];
+    if w == 0 {
+        return out;
+    }
+    for (y, row) in drivable[..w * h].chunks_exact(w).enumerate() {
+        let below = y.checked_sub(1).map(|b| &drivable[b * w..(b + 1) * w]);
+        let above = (y + 1 < h).then(|| &drivable[(y + 1) * w..(y + 2) * w]);
+        let (bottom, top) = (y * lw, (y + 1) * lw);
+        for (x, _) in row.iter().enumerate().filter(|(_, &d)| d) {
+            if !below.is_some_and(|b| b[x]) {
+                out[bottom + x] |= 1 << 0; // east along the bottom
+            }
+            if !row.get(x + 1).is_some_and(|&d| d) {
+                out[bottom + x + 1] |= 1 << 1; // north along the right side
+            }
+            if !above.is_some_and(|a| a[x]) {
+                out[top + x + 1] |= 1 << 2; // west along the top
+            }
+            if x == 0 || !row[x - 1] {
+                out[top + x] |= 1 << 3; // south along the left side
+            }
+        }
+    }
+    out
 }
 
 /// How far `p` lies to the left of the line from `a` to `b` (the free side of an
@@ -320,5 +344,44 @@ mod tests {
         }
         stairs.push((0, 10));
         assert!(simplify_closed(&stairs, 1.0).len() <= 4);
+    }
+
+    /// The cracks of the four sides of every drivable cell, each side's
+    /// neighbour asked with bounds checks: the reference for [`cracks`].
+    fn cracks_cell_by_cell(g: &GridGeometry, drivable: &[bool]) -> Vec<u8> {
+        let (w, h) = (g.width as i64, g.height as i64);
+        let lw = w + 1;
+        let free =
+            |x: i64, y: i64| x >= 0 && y >= 0 && x < w && y < h && drivable[(y * w + x) as usize];
+        let mut out = vec![0u8; ((w + 1) * (h + 1)) as usize];
+        let at = |x: i64, y: i64| (y * lw + x) as usize;
+        for y in 0..h {
+            for x in (0..w).filter(|&x| free(x, y)) {
+                for (d, (nx, ny), corner) in [
+                    (0, (x, y - 1), (x, y)),
+                    (1, (x + 1, y), (x + 1, y)),
+                    (2, (x, y + 1), (x + 1, y + 1)),
+                    (3, (x - 1, y), (x, y + 1)),
+                ] {
+                    if !free(nx, ny) {
+                        out[at(corner.0, corner.1)] |= 1 << d;
+                    }
+                }
+            }
+        }
+        out
+    }
+
+    proptest::proptest! {
+        #[test]
+        fn cracks_are_the_sides_of_drivable_cells_by_non_drivable_ones(
+            w in 1usize..20,
+            h in 1usize..20,
+            bits in proptest::collection::vec(proptest::bool::ANY, 400),
+        ) {
+            let g = GridGeometry::new(w, h, 0.1, crate::geom::Point::default());
+            let drivable = &bits[..w * h];
+            proptest::prop_assert_eq!(cracks(&g, drivable), cracks_cell_by_cell(&g, drivable));
+        }
     }
 }
