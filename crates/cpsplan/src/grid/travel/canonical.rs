@@ -37,7 +37,8 @@ pub(super) struct Scratch {
     /// The flags of the grid with a border of one blocked cell all round, so that
     /// every cell of the grid has eight neighbours.
     flags: Vec<u8>,
-    /// Jump points and sources by cost: `cost << 32 | cell`.
+    /// Jump points and sources by cost: `cost << 32 | cell` (a grid's cells
+    /// number fewer than 2³²: the memory estimate refuses grids long before).
     queue: BinaryHeap<Reverse<u64>>,
 }
 
