@@ -4,11 +4,11 @@
 //! candidate and the set of reachable cells.
 //!
 //! The sweep is the dearest step of a planning round (it covers every drivable
-//! cell), so it is written for speed: canonical Dijkstra ([`canonical`]) writes
+//! cell), so it is written for speed: canonical Dijkstra (module `canonical`) writes
 //! the costs along straight and diagonal rays and queues only the jump points
 //! where a ray passes the end of a wall, and its working buffers are kept per
 //! thread between sweeps. Its costs are the exact shortest-path costs, so the
-//! field equals a plain Dijkstra's. [`reached_within`] is Dial's bucket-queue
+//! field equals a plain Dijkstra's. `reached_within` is Dial's bucket-queue
 //! Dijkstra that touches only what it reaches, for short sweeps.
 
 mod canonical;
