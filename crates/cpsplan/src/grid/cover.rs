@@ -35,7 +35,13 @@ pub fn lazy_greedy_while<S: AsRef<[u32]>>(
     min_gain: usize,
 ) -> Vec<Pick> {
     let min_gain = min_gain.max(1);
-    let mut covered = vec![false; targets];
+    // The flags of a whole map's cells on a large map: kept for the next cover
+    // and cleared where the picks set them, not allocated and zeroed each time.
+    let mut kept = COVERED.with(|c| std::mem::take(&mut *c.borrow_mut()));
+    if kept.len() < targets {
+        kept.resize(targets, false);
+    }
+    let covered = &mut kept[..targets];
     let mut heap: BinaryHeap<(usize, Reverse<usize>)> = sets
         .iter()
         .enumerate()
@@ -84,7 +90,23 @@ pub fn lazy_greedy_while<S: AsRef<[u32]>>(
             covered: total,
         });
     }
+    for p in &picks {
+        for &t in sets[p.station].as_ref() {
+            covered[t as usize] = false;
+        }
+    }
+    if kept.len() <= KEEP_TARGETS {
+        COVERED.with(|c| *c.borrow_mut() = kept);
+    }
     picks
+}
+
+/// The most targets whose flags a thread keeps for the next cover.
+const KEEP_TARGETS: usize = 1 << 24;
+
+thread_local! {
+    /// Per target whether a pick covers it: all `false` between covers.
+    static COVERED: std::cell::RefCell<Vec<bool>> = std::cell::RefCell::default();
 }
 
 #[cfg(test)]
