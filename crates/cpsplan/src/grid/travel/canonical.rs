@@ -108,7 +108,7 @@ pub(super) fn canonical<T: Copy>(
     };
     for &s in sources {
         sweep.cost[s] = 0;
-        sweep.queue.push(Reverse(s as u64));
+        sweep.jump(s, 0);
     }
     let east = Step { cell: 1, flag: 1 };
     let north = Step {
@@ -157,7 +157,7 @@ impl Sweep<'_> {
         self.flags[f] & OPEN != 0
     }
 
-    /// Queues a jump point.
+    /// Queues a jump point (or a source) at cost `c`.
     fn jump(&mut self, i: usize, c: u32) {
         self.queue.push(Reverse(u64::from(c) << 32 | i as u64));
     }
