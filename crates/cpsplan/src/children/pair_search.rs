@@ -14,11 +14,12 @@
 //! - More: coordinate descent from a greedy start ([`descend`]), near-optimal but
 //!   not proven.
 
-use std::cell::OnceCell;
 use std::cmp::Ordering;
 use std::collections::BinaryHeap;
+use std::sync::OnceLock;
 
 use nalgebra::Matrix3;
+use rayon::prelude::*;
 
 use super::spacing::Spacing;
 use crate::geom::Cell;
@@ -38,6 +39,12 @@ pub const SEARCH_GAP: f64 = 0.02;
 /// Pops of the branch and bound after which it returns the best pair found, with
 /// the gap still open (measured in docs/PERFORMANCE.md).
 const MAX_POPS: usize = 5_000;
+
+/// Sets of at least this many spots are scanned in parallel.
+const PARALLEL_SPOTS: usize = 2048;
+
+/// Node bounds over at least this many members are computed two at a time.
+const PARALLEL_BOUND: usize = 256;
 
 /// Spots per set of the lattice whose pairs give the search's first incumbent.
 const LATTICE_SPOTS: usize = 100;
@@ -59,21 +66,46 @@ pub(super) fn best_single(
     spots: &[Spot],
     fixed: &Matrix3<f64>,
     lambda: f64,
-    cost: &impl Fn(&Matrix3<f64>) -> f64,
+    cost: &(impl Fn(&Matrix3<f64>) -> f64 + Sync),
     others: &[Cell],
     spacing: &Spacing,
 ) -> Option<(f64, usize)> {
-    let mut best: Option<(f64, usize)> = None;
-    for (k, s) in spots.iter().enumerate() {
-        if !others.iter().all(|&o| spacing.ok(s.cell, o)) {
-            continue;
+    let scan = |from: usize, chunk: &[Spot]| {
+        let mut best: Option<(f64, usize)> = None;
+        for (k, s) in chunk.iter().enumerate() {
+            if !others.iter().all(|&o| spacing.ok(s.cell, o)) {
+                continue;
+            }
+            let v = cost(&(fixed + s.info)) + lambda * s.travel;
+            if best.is_none_or(|(b, _)| v < b) {
+                best = Some((v, from + k));
+            }
         }
-        let v = cost(&(fixed + s.info)) + lambda * s.travel;
-        if best.is_none_or(|(b, _)| v < b) {
-            best = Some((v, k));
-        }
+        best
+    };
+    if spots.len() < PARALLEL_SPOTS {
+        return scan(0, spots);
     }
-    best
+    // Chunks in parallel, their winners taken in order: the first least value,
+    // as the plain scan finds it (the cost is never NaN).
+    spots
+        .par_chunks(PARALLEL_SPOTS / 2)
+        .enumerate()
+        .map(|(c, chunk)| scan(c * (PARALLEL_SPOTS / 2), chunk))
+        .collect::<Vec<_>>()
+        .into_iter()
+        .flatten()
+        .fold(None, first_least)
+}
+
+/// The first of two `(value, index)` winners in scan order unless the second
+/// is strictly less.
+fn first_least(a: Option<(f64, usize)>, b: (f64, usize)) -> Option<(f64, usize)> {
+    match a {
+        Some(x) if b.0 < x.0 => Some(b),
+        Some(x) => Some(x),
+        None => Some(b),
+    }
 }
 
 /// Coordinate descent for three or more movers: greedy start, then each mover's
@@ -81,7 +113,7 @@ pub(super) fn best_single(
 pub(super) fn descend(
     spots: &[Vec<Spot>],
     lambda: f64,
-    cost: &impl Fn(&Matrix3<f64>) -> f64,
+    cost: &(impl Fn(&Matrix3<f64>) -> f64 + Sync),
     spacing: &Spacing,
 ) -> Option<(f64, Vec<usize>)> {
     let m = spots.len();
@@ -130,7 +162,7 @@ struct Node {
     lo: usize,
     hi: usize,
     /// Computed when the search first needs it.
-    bound: OnceCell<Matrix3<f64>>,
+    bound: OnceLock<Matrix3<f64>>,
     travel: f64,
     halves: Option<(usize, usize)>,
 }
@@ -154,7 +186,7 @@ fn build(
     nodes.push(Node {
         lo,
         hi,
-        bound: OnceCell::new(),
+        bound: OnceLock::new(),
         travel: spots[order[lo]].travel,
         halves: None,
     });
@@ -219,43 +251,67 @@ fn upper_bound<'a>(infos: impl Iterator<Item = &'a Matrix3<f64>> + Clone) -> Mat
             .and_then(|c| c.l().try_inverse())
             .map(|li| (q, li))
     };
+    // Each ridge's rough scale, given up as soon as it cannot beat the best
+    // so far; the chosen ridge keeps each member's Gershgorin bound and norm.
     let mut chosen: Option<(f64, Matrix3<f64>, Matrix3<f64>)> = None;
+    let (mut rough, mut trial) = (Vec::new(), Vec::new());
     for ridge in BOUND_RIDGES {
         let Some((q, li)) = whitener(ridge) else {
             continue;
         };
-        let rough = infos
-            .clone()
-            .map(|j| gershgorin(&(li * j * li.transpose())))
-            .fold(0.0, f64::max);
-        let score = rough * (1.0 + ridge);
-        if chosen.as_ref().is_none_or(|(b, _, _)| score < *b) {
+        trial.clear();
+        let mut max = 0.0;
+        let mut beaten = false;
+        for j in infos.clone() {
+            let (bound, norm) = gershgorin(&(li * j * li.transpose()));
+            max = f64::max(max, bound);
+            if chosen
+                .as_ref()
+                .is_some_and(|(b, _, _)| max * (1.0 + ridge) >= *b)
+            {
+                beaten = true;
+                break;
+            }
+            trial.push((bound, norm));
+        }
+        let score = max * (1.0 + ridge);
+        if !beaten && chosen.as_ref().is_none_or(|(b, _, _)| score < *b) {
             chosen = Some((score, q, li));
+            std::mem::swap(&mut rough, &mut trial);
         }
     }
     let mut best: Option<(f64, Matrix3<f64>)> = None;
     if let Some((_, q, li)) = chosen {
-        let scale = infos
-            .clone()
-            .map(|j| max_eigenvalue(&(li * j * li.transpose())))
-            .fold(0.0, f64::max);
+        // The exact scale: a member whose Gershgorin bound lies below the
+        // largest eigenvalue found so far, by more than the trigonometric
+        // form's rounding (under 1e-7 of the matrix's norm), cannot raise it.
+        let mut scale = 0.0;
+        for (j, &(bound, norm)) in infos.clone().zip(&rough) {
+            if bound + 1e-6 * norm < scale {
+                continue;
+            }
+            scale = f64::max(scale, max_eigenvalue(&(li * j * li.transpose())));
+        }
         // A little over, for rounding.
         best = Some((scale, q * (scale * (1.0 + 1e-9) + 1e-12)));
     }
     best.map_or_else(fallback, |(_, u)| u)
 }
 
-/// Gershgorin's bound on the eigenvalues of a symmetric 3×3 matrix.
-fn gershgorin(m: &Matrix3<f64>) -> f64 {
-    (0..3)
-        .map(|i| {
-            m[(i, i)]
-                + (0..3)
-                    .filter(|&j| j != i)
-                    .map(|j| m[(i, j)].abs())
-                    .sum::<f64>()
-        })
-        .fold(f64::NEG_INFINITY, f64::max)
+/// Gershgorin's bound on the eigenvalues of a symmetric 3×3 matrix, and its
+/// largest absolute row sum (a norm, at least every eigenvalue's size).
+fn gershgorin(m: &Matrix3<f64>) -> (f64, f64) {
+    let mut bound = f64::NEG_INFINITY;
+    let mut norm = 0.0f64;
+    for i in 0..3 {
+        let off = (0..3)
+            .filter(|&j| j != i)
+            .map(|j| m[(i, j)].abs())
+            .sum::<f64>();
+        bound = bound.max(m[(i, i)] + off);
+        norm = norm.max(m[(i, i)].abs() + off);
+    }
+    (bound, norm)
 }
 
 /// The largest eigenvalue of a symmetric 3×3 matrix (trigonometric form).
@@ -271,6 +327,26 @@ fn max_eigenvalue(m: &Matrix3<f64>) -> f64 {
     let r = (b.determinant() / 2.0).clamp(-1.0, 1.0);
     let phi = r.acos() / 3.0;
     q + 2.0 * p * phi.cos()
+}
+
+/// Computes the bounds of the halves `x` and `y` of a node at once, when both
+/// are still to be computed and large (each is the same whichever thread
+/// computes it).
+fn both_bounds(
+    t: &[Node],
+    order: &[usize],
+    spots: &[Spot],
+    x: usize,
+    y: usize,
+    node_bound: &(impl Fn(&[Node], &[usize], &[Spot], usize) -> Matrix3<f64> + Sync),
+) {
+    let open = |n: usize| t[n].bound.get().is_none() && t[n].hi - t[n].lo >= PARALLEL_BOUND;
+    if open(x) && open(y) {
+        rayon::join(
+            || node_bound(t, order, spots, x),
+            || node_bound(t, order, spots, y),
+        );
+    }
 }
 
 /// A pair of nodes in the branch and bound's queue, smallest bound first.
@@ -321,7 +397,7 @@ pub(super) fn best_pair(
     a: &[Spot],
     b: &[Spot],
     lambda: f64,
-    cost: &impl Fn(&Matrix3<f64>) -> f64,
+    cost: &(impl Fn(&Matrix3<f64>) -> f64 + Sync),
     spacing: &Spacing,
     gap: Gap,
 ) -> Option<(f64, Vec<usize>, f64)> {
@@ -333,15 +409,31 @@ pub(super) fn best_pair(
     // spot's best partner in turn over the full sets.
     let thin = |n: usize| (n / LATTICE_SPOTS).max(1);
     let (sa, sb) = (thin(a.len()), thin(b.len()));
-    let mut best: Option<(f64, usize, usize)> = None;
-    for i in (0..a.len()).step_by(sa) {
+    // Row by row in parallel, each row's first least value, then the rows'
+    // in order: the pair a plain scan of the rows finds.
+    let rows: Vec<usize> = (0..a.len()).step_by(sa).collect();
+    let row_best = |&i: &usize| {
+        let mut best: Option<(f64, usize)> = None;
         for j in (0..b.len()).step_by(sb) {
             if spacing.ok(a[i].cell, b[j].cell) {
                 let v = value(i, j);
-                if best.is_none_or(|(bv, _, _)| v < bv) {
-                    best = Some((v, i, j));
+                if best.is_none_or(|(bv, _)| v < bv) {
+                    best = Some((v, j));
                 }
             }
+        }
+        best.map(|(v, j)| (v, i, j))
+    };
+    let mut best: Option<(f64, usize, usize)> = None;
+    for (v, i, j) in rows
+        .par_iter()
+        .map(row_best)
+        .collect::<Vec<_>>()
+        .into_iter()
+        .flatten()
+    {
+        if best.is_none_or(|(bv, _, _)| v < bv) {
+            best = Some((v, i, j));
         }
     }
     if let Some((_, mut i, mut j)) = best {
@@ -406,9 +498,11 @@ pub(super) fn best_pair(
                 };
                 let pairs = if split_a {
                     let (x, y) = ha.expect("split node has halves");
+                    both_bounds(&ta, &oa, a, x, y, &node_bound);
                     [(x, p.b), (y, p.b)]
                 } else {
                     let (x, y) = hb.expect("split node has halves");
+                    both_bounds(&tb, &ob, b, x, y, &node_bound);
                     [(p.a, x), (p.a, y)]
                 };
                 for (x, y) in pairs {
@@ -549,6 +643,96 @@ mod eig_tests {
             let got = max_eigenvalue(&m);
             prop_assert!((got - e).abs() <= 1e-6 * e.abs().max(1e-300), "{} vs {}", got, e);
         }
+
+        /// The node bound with its pruned passes is, bit for bit, the bound of
+        /// the plain passes (every ridge scored over every member, every
+        /// member's largest eigenvalue), on rank-two members like a mover's.
+        #[test]
+        fn pruned_bound_equals_the_plain_one(
+            members in proptest::collection::vec((proptest::collection::vec(-10.0f64..10.0, 6), -4i32..4), 1..40),
+        ) {
+            let infos: Vec<Matrix3<f64>> = members
+                .iter()
+                .map(|(v, e)| {
+                    let a = nalgebra::Matrix2x3::from_iterator(v.iter().copied());
+                    (a.transpose() * a) * 10f64.powi(*e)
+                })
+                .collect();
+            let got = upper_bound(infos.iter());
+            let want = plain_upper_bound(infos.iter());
+            prop_assert_eq!(got, want);
+        }
+
+        /// Scanned in parallel chunks, a large set gives the plain scan's
+        /// spot: the first of the least value.
+        #[test]
+        fn best_single_in_chunks_is_the_plain_scan(
+            values in proptest::collection::vec(0u8..40, PARALLEL_SPOTS..3 * PARALLEL_SPOTS),
+        ) {
+            // The value of a spot is its `info[(0, 0)]`: few distinct values, many ties.
+            let spots: Vec<Spot> = values
+                .iter()
+                .enumerate()
+                .map(|(k, &v)| Spot {
+                    cell: Cell::new(k, 0),
+                    info: Matrix3::identity() * f64::from(v),
+                    travel: 0.0,
+                })
+                .collect();
+            let spacing = Spacing { parents: Vec::new(), radius: 0.0, marker: 0.0 };
+            let cost = |j: &Matrix3<f64>| j[(0, 0)];
+            let got = best_single(&spots, &Matrix3::zeros(), 0.0, &cost, &[], &spacing);
+            let least = values.iter().copied().min().map(f64::from);
+            let want = values.iter().position(|&v| Some(f64::from(v)) == least);
+            prop_assert_eq!(got, least.zip(want));
+        }
+    }
+
+    /// The node bound as first written: every ridge scored over every member,
+    /// the scale from every member's largest eigenvalue.
+    fn plain_upper_bound<'a>(
+        infos: impl Iterator<Item = &'a Matrix3<f64>> + Clone,
+    ) -> Matrix3<f64> {
+        let mut mean = Matrix3::zeros();
+        let mut count = 0.0;
+        for j in infos.clone() {
+            mean += j;
+            count += 1.0;
+        }
+        mean /= count;
+        let eig = mean.symmetric_eigen();
+        let (mut big, mut weak) = (0, 0);
+        for k in 0..3 {
+            if eig.eigenvalues[k] > eig.eigenvalues[big] {
+                big = k;
+            }
+            if eig.eigenvalues[k] < eig.eigenvalues[weak] {
+                weak = k;
+            }
+        }
+        let top = eig.eigenvalues[big].max(1e-300);
+        let v = eig.eigenvectors.column(weak).into_owned();
+        let mut chosen: Option<(f64, Matrix3<f64>, Matrix3<f64>)> = None;
+        for ridge in BOUND_RIDGES {
+            let q = mean + v * v.transpose() * (ridge * top) + Matrix3::identity() * (1e-15 * top);
+            let Some(li) = q.cholesky().and_then(|c| c.l().try_inverse()) else {
+                continue;
+            };
+            let rough = infos
+                .clone()
+                .map(|j| gershgorin(&(li * j * li.transpose())).0)
+                .fold(0.0, f64::max);
+            let score = rough * (1.0 + ridge);
+            if chosen.as_ref().is_none_or(|(b, _, _)| score < *b) {
+                chosen = Some((score, q, li));
+            }
+        }
+        let (_, q, li) = chosen.expect("a ridge whitens");
+        let scale = infos
+            .clone()
+            .map(|j| max_eigenvalue(&(li * j * li.transpose())))
+            .fold(0.0, f64::max);
+        q * (scale * (1.0 + 1e-9) + 1e-12)
     }
 }
 

@@ -24,6 +24,7 @@ use std::collections::HashMap;
 use nalgebra::Matrix3;
 use rand::RngExt;
 use rand_chacha::ChaCha8Rng;
+use rayon::prelude::*;
 
 use super::and_region::{and_region, AndRegion, ChildReach};
 use super::clearance::clearances;
@@ -179,19 +180,30 @@ pub fn place_min_error(
         };
         let movers: Vec<usize> = (0..n).filter(|i| !stayers.contains(i)).collect();
         let stay_cells: Vec<Cell> = stayers.iter().map(|&s| here[s]).collect();
+        let usable = |i: usize| {
+            lattice[i]
+                .iter()
+                .copied()
+                .filter(|&j| clear_of(&spacing, g.cell(j as usize), &stay_cells))
+        };
+        // The information of the spots not met before, in parallel.
+        let mut new: Vec<u32> = movers
+            .iter()
+            .flat_map(|&i| usable(i))
+            .filter(|j| !infos.contains_key(j))
+            .collect();
+        new.sort_unstable();
+        new.dedup();
+        let computed: Vec<Matrix3<f64>> = new
+            .par_iter()
+            .map(|&j| objective.mover_info(g.cell_center(g.cell(j as usize))))
+            .collect();
+        infos.extend(new.into_iter().zip(computed));
         let spots: Vec<Vec<Spot>> = movers
             .iter()
             .map(|&i| {
-                let mut spot = |j: u32| {
-                    let info = *infos
-                        .entry(j)
-                        .or_insert_with(|| objective.mover_info(g.cell_center(g.cell(j as usize))));
-                    spot_at(&g, j, info, here[i])
-                };
-                lattice[i]
-                    .iter()
-                    .filter(|&&j| clear_of(&spacing, g.cell(j as usize), &stay_cells))
-                    .map(|&j| spot(j))
+                usable(i)
+                    .filter_map(|j| infos.get(&j).map(|&info| spot_at(&g, j, info, here[i])))
                     .collect()
             })
             .collect();
