@@ -132,17 +132,38 @@ impl Objective {
 
     /// The information about the next pose of a moving child at `c`: its point
     /// measured from the current station, then measured from the next.
+    ///
+    /// The planar model's observation, Jacobians and noise (the objective's
+    /// model is planar), written out in fixed-size matrices: the search asks
+    /// for thousands of spots a cycle.
     pub fn mover_info(&self, c: Point) -> Matrix3<f64> {
-        let m = &self.model;
-        let p = [self.from.x, self.from.y, 0.0];
-        let u = [self.to.x, self.to.y, 0.0];
-        let cc = [c.x, c.y];
-        let zp = m.observe(&p, &cc);
-        let (_, fz) = m.forward_jacobians(&p, zp.as_slice());
-        let rp = m2(&m.noise(&p, &cc));
-        let (hu, hc) = m.jacobians(&u, &cc);
-        let (hu, hc, fz) = (m23(&hu), m2(&hc), m2(&fz));
-        let ru = m2(&m.noise(&u, &cc));
+        let i = &self.model.instrument;
+        let sa2 = i.angle_sigma * i.angle_sigma;
+        // The station's circle reads 0 at both stations.
+        let omega = 0.0;
+        // From the current station: the point as measured, `F_z` and `R`.
+        let (dx, dy) = (c.x - self.from.x, c.y - self.from.y);
+        let d = (dx * dx + dy * dy).sqrt();
+        let theta = omega + (dy.atan2(dx) - omega);
+        let (st, ct) = theta.sin_cos();
+        let fz = Matrix2::new(ct, -d * st, st, d * ct);
+        let sd = i.distance_sigma_at(d);
+        let rp = Matrix2::new(sd * sd, 0.0, 0.0, sa2);
+        // From the next station: `H_c`, `H_u` and `R`.
+        let (ex, ey) = (c.x - self.to.x, c.y - self.to.y);
+        let h2 = ex * ex + ey * ey;
+        let e = h2.sqrt();
+        let hc = Matrix2::new(ex / e, ey / e, -ey / h2, ex / h2);
+        let hu = Matrix2x3::new(
+            -hc[(0, 0)],
+            -hc[(0, 1)],
+            0.0,
+            -hc[(1, 0)],
+            -hc[(1, 1)],
+            -1.0,
+        );
+        let su = i.distance_sigma_at(e);
+        let ru = Matrix2::new(su * su, 0.0, 0.0, sa2);
         let n = hc * fz * rp * fz.transpose() * hc.transpose() + ru;
         match n.try_inverse() {
             Some(ni) => hu.transpose() * ni * hu,
@@ -230,14 +251,6 @@ fn dm3(m: &Matrix3<f64>) -> DMatrix<f64> {
     DMatrix::from_fn(3, 3, |i, j| m[(i, j)])
 }
 
-fn m2(m: &DMatrix<f64>) -> Matrix2<f64> {
-    Matrix2::from_fn(|i, j| m[(i, j)])
-}
-
-fn m23(m: &DMatrix<f64>) -> Matrix2x3<f64> {
-    Matrix2x3::from_fn(|i, j| m[(i, j)])
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -256,8 +269,46 @@ mod tests {
         p.xx + p.yy + leg2 * p.heading
     }
 
+    /// The mover's information through the model's general (dynamic-size)
+    /// observation, Jacobians and noise, as first written.
+    fn mover_info_by_the_model(o: &Objective, c: Point) -> Matrix3<f64> {
+        let m2 = |m: &DMatrix<f64>| Matrix2::from_fn(|i, j| m[(i, j)]);
+        let m = &o.model;
+        let p = [o.from.x, o.from.y, 0.0];
+        let u = [o.to.x, o.to.y, 0.0];
+        let cc = [c.x, c.y];
+        let zp = m.observe(&p, &cc);
+        let (_, fz) = m.forward_jacobians(&p, zp.as_slice());
+        let rp = m2(&m.noise(&p, &cc));
+        let (hu, hc) = m.jacobians(&u, &cc);
+        let hu = Matrix2x3::from_fn(|i, j| hu[(i, j)]);
+        let (hc, fz) = (m2(&hc), m2(&fz));
+        let ru = m2(&m.noise(&u, &cc));
+        let n = hc * fz * rp * fz.transpose() * hc.transpose() + ru;
+        match n.try_inverse() {
+            Some(ni) => hu.transpose() * ni * hu,
+            None => Matrix3::zeros(),
+        }
+    }
+
     proptest! {
         #![proptest_config(ProptestConfig { cases: 100, ..ProptestConfig::default() })]
+
+        /// The written-out information is the model's, bit for bit.
+        #[test]
+        fn mover_info_is_the_models(
+            from in (-50.0f64..50.0, -50.0f64..50.0),
+            to in (-50.0f64..50.0, -50.0f64..50.0),
+            spots in proptest::collection::vec((-60.0f64..60.0, -60.0f64..60.0), 1..20),
+        ) {
+            let start = Point::new(from.0, from.1);
+            let chain = Chain::new(model(), start, 2);
+            let objective = Objective::new(&chain, Point::new(to.0, to.1), &[]).unwrap();
+            for (x, y) in spots {
+                let c = Point::new(x, y);
+                prop_assert_eq!(objective.mover_info(c), mover_info_by_the_model(&objective, c));
+            }
+        }
 
         /// The objective equals the propagated chain, whatever stays and moves.
         #[test]

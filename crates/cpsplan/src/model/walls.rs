@@ -96,21 +96,52 @@ impl GroundTruthWalls {
         }
         let k = ((reach + 2.5).ceil() as i64).min(g.width.max(g.height) as i64);
         // Squared distances: one square root at the end instead of a `hypot`
-        // per square.
+        // per square. Rows and columns outward from the centre, each direction
+        // given up once its nearest square is no nearer than the best: the
+        // same squares' least distance, found sooner.
         let mut best2 = f64::INFINITY;
-        for y in (cy - k).max(0)..=(cy + k).min(g.height as i64 - 1) {
+        let (x0, x1) = ((cx - k).max(0), (cx + k).min(g.width as i64 - 1));
+        let (y0, y1) = ((cy - k).max(0), (cy + k).min(g.height as i64 - 1));
+        let row = |y: i64, best2: &mut f64| -> bool {
             let dy = (y as f64 - fy).max(fy - (y as f64 + 1.0)).max(0.0);
             let dy2 = dy * dy;
-            if dy2 >= best2 {
-                continue;
+            if dy2 >= *best2 {
+                return false;
             }
-            let row = y as usize * g.width;
-            for x in (cx - k).max(0)..=(cx + k).min(g.width as i64 - 1) {
-                if self.solid[row + x as usize] != want_solid {
-                    continue;
-                }
+            let cells = &self.solid[y as usize * g.width..][..g.width];
+            let column = |x: i64, best2: &mut f64| -> bool {
                 let dx = (x as f64 - fx).max(fx - (x as f64 + 1.0)).max(0.0);
-                best2 = best2.min(dx * dx + dy2);
+                let d2 = dx * dx + dy2;
+                if d2 >= *best2 {
+                    return false;
+                }
+                if cells[x as usize] == want_solid {
+                    *best2 = d2;
+                }
+                true
+            };
+            let mid = cx.clamp(x0, x1);
+            for x in mid..=x1 {
+                if !column(x, best2) {
+                    break;
+                }
+            }
+            for x in (x0..mid).rev() {
+                if !column(x, best2) {
+                    break;
+                }
+            }
+            true
+        };
+        let mid = cy.clamp(y0, y1);
+        for y in mid..=y1 {
+            if !row(y, &mut best2) {
+                break;
+            }
+        }
+        for y in (y0..mid).rev() {
+            if !row(y, &mut best2) {
+                break;
             }
         }
         best2.sqrt()
@@ -152,5 +183,39 @@ mod tests {
         assert!((w.distance([0.13, 0.14, 1.0]) - 0.03).abs() < 1e-9);
         // Inside the corner cell, 3 cm and 4 cm from the free room's corner.
         assert!((w.distance([0.07, 0.06, 1.0]) - 0.05).abs() < 1e-9);
+    }
+
+    proptest::proptest! {
+        /// Inside the grid, the distance is the least over every square of the
+        /// other kind (solid from a free cell, free from a solid one), bit for
+        /// bit: the search's pruning never drops the nearest square.
+        #[test]
+        fn the_distance_is_the_nearest_square_of_all(
+            walls in proptest::collection::vec(0usize..144, 0..60),
+            points in proptest::collection::vec((0.0f64..1.2, 0.0f64..1.2), 1..30),
+        ) {
+            let g = GridGeometry::new(12, 12, 0.1, Point::new(0.0, 0.0));
+            let mut grid = OccupancyGrid::filled(g, CellState::Free);
+            for &i in &walls {
+                grid.set(g.cell(i), CellState::Occupied);
+            }
+            let w = GroundTruthWalls::new(&grid, 2.0);
+            for (x, y) in points {
+                let (fx, fy) = (x / 0.1, y / 0.1);
+                let (cx, cy) = (fx.floor() as usize, fy.floor() as usize);
+                let here = w.solid[cy.min(11) * 12 + cx.min(11)];
+                let mut best2 = f64::INFINITY;
+                for (i, &s) in w.solid.iter().enumerate() {
+                    if s != here {
+                        let (sx, sy) = ((i % 12) as f64, (i / 12) as f64);
+                        let dx = (sx - fx).max(fx - (sx + 1.0)).max(0.0);
+                        let dy = (sy - fy).max(fy - (sy + 1.0)).max(0.0);
+                        best2 = best2.min(dx * dx + dy * dy);
+                    }
+                }
+                let want = if best2.is_finite() { best2.sqrt() * 0.1 } else { f64::INFINITY };
+                proptest::prop_assert_eq!(w.distance([x, y, 1.0]), want.hypot(0.0), "at ({}, {})", x, y);
+            }
+        }
     }
 }
