@@ -299,7 +299,8 @@ fn upper_bound<'a>(infos: impl Iterator<Item = &'a Matrix3<f64>> + Clone) -> Mat
 }
 
 /// Gershgorin's bound on the eigenvalues of a symmetric 3×3 matrix, and its
-/// largest absolute row sum (a norm, at least every eigenvalue's size).
+/// largest absolute row sum (a norm, at least every eigenvalue's size;
+/// infinite when an entry is not finite, so that nothing is skipped on it).
 fn gershgorin(m: &Matrix3<f64>) -> (f64, f64) {
     let mut bound = f64::NEG_INFINITY;
     let mut norm = 0.0f64;
@@ -310,6 +311,9 @@ fn gershgorin(m: &Matrix3<f64>) -> (f64, f64) {
             .sum::<f64>();
         bound = bound.max(m[(i, i)] + off);
         norm = norm.max(m[(i, i)].abs() + off);
+    }
+    if !m.iter().all(|v| v.is_finite()) {
+        norm = f64::INFINITY;
     }
     (bound, norm)
 }

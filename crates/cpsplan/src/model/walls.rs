@@ -186,13 +186,14 @@ mod tests {
     }
 
     proptest::proptest! {
-        /// Inside the grid, the distance is the least over every square of the
-        /// other kind (solid from a free cell, free from a solid one), bit for
-        /// bit: the search's pruning never drops the nearest square.
+        /// The distance is the least over every square of the other kind
+        /// (solid from a free cell, free from a solid one or from outside the
+        /// grid), bit for bit: the search's pruning never drops the nearest
+        /// square.
         #[test]
         fn the_distance_is_the_nearest_square_of_all(
             walls in proptest::collection::vec(0usize..144, 0..60),
-            points in proptest::collection::vec((0.0f64..1.2, 0.0f64..1.2), 1..30),
+            points in proptest::collection::vec((-0.6f64..1.8, -0.6f64..1.8), 1..30),
         ) {
             let g = GridGeometry::new(12, 12, 0.1, Point::new(0.0, 0.0));
             let mut grid = OccupancyGrid::filled(g, CellState::Free);
@@ -202,8 +203,9 @@ mod tests {
             let w = GroundTruthWalls::new(&grid, 2.0);
             for (x, y) in points {
                 let (fx, fy) = (x / 0.1, y / 0.1);
-                let (cx, cy) = (fx.floor() as usize, fy.floor() as usize);
-                let here = w.solid[cy.min(11) * 12 + cx.min(11)];
+                // Outside the grid everything counts as solid.
+                let inside = (0.0..12.0).contains(&fx) && (0.0..12.0).contains(&fy);
+                let here = !inside || w.solid[fy as usize * 12 + fx as usize];
                 let mut best2 = f64::INFINITY;
                 for (i, &s) in w.solid.iter().enumerate() {
                     if s != here {
