@@ -79,7 +79,7 @@ fn the_paper_preset_gives_the_papers_choices() {
 const PAPER_EPISODES: [(&str, &str); 3] = [
     (
         "office",
-        "a198669494c38ef31c74cac36315479bfc40052f3c3ea8289f70211ed1f0f8a8",
+        "6234af3e1568ca84deb6d3b1942639ff11b3f8e5ab4271efdaf57f1553e4d178",
     ),
     (
         "site",
@@ -87,7 +87,7 @@ const PAPER_EPISODES: [(&str, &str); 3] = [
     ),
     (
         "tunnel",
-        "b7026648bbf0b2207af05dc6d3d14a3a45fde212bb91b8ed86c420962d4ed1ec",
+        "7b4b68e9147dd2ff9796afe799bb5e7c22277171c0c42ead518ecf7097db30c2",
     ),
 ];
 

@@ -193,6 +193,9 @@ fn best_pair(
             }
         }
     }
+    // Largest bound first: the search may stop at the first bound that cannot
+    // beat the best pair found.
+    pairs.sort_unstable_by(|x, y| y.0.total_cmp(&x.0).then((x.1, x.2).cmp(&(y.1, y.2))));
     let mut best: Option<(usize, usize, f64)> = None;
     for (bound, ka, kb) in pairs {
         if best.is_some_and(|(_, _, v)| bound <= v) {
@@ -377,6 +380,44 @@ mod tests {
                 prop_assert!(p[0].is_none() && p[1].is_none());
             }
         }
+    }
+
+    /// Bin pairs searched in the order of their bounds: here the bin pair
+    /// visited first holds a pair (61.3) better than the next bin pair's bound
+    /// (57.3), and the bin pair after it holds the best pair (62.2), which a
+    /// search that stopped at the first bound below its best would miss.
+    #[test]
+    fn the_best_pair_beyond_a_lower_bound_is_found() {
+        // 0.1 m cells, the target 90 m from the spots: bearings to 0.05°.
+        let g = GridGeometry::new(2000, 2000, 0.1, Point::default());
+        let target = Cell::new(1000, 1000);
+        let at = |deg: f64, clearance: f64| {
+            let t = deg.to_radians();
+            Spot {
+                cell: Cell::new(
+                    (1000.0 + 900.0 * t.cos()).round() as usize,
+                    (1000.0 + 900.0 * t.sin()).round() as usize,
+                ),
+                clearance,
+            }
+        };
+        let w = Eq2 {
+            alpha_c: 1.0,
+            beta_c: 0.0,
+            ..W
+        };
+        let a = vec![at(0.5, 0.0)];
+        let b = vec![
+            at(89.3, 5.0),
+            at(89.9, 4.0),
+            at(90.5, 0.0),
+            at(91.9, 5.0),
+            at(91.1, 4.9),
+        ];
+        let expected = brute(&g, &a, &b, target, 0.25, &w);
+        let p = place_children(&g, &[a, b.clone()], target, 0.25, 0.1, &[], &w);
+        assert_eq!(p[1].map(|q| q.cell), Some(b[4].cell));
+        assert!((value(&g, &p, target, &w) - expected).abs() < 1e-9);
     }
 
     #[test]
