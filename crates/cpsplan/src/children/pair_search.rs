@@ -220,43 +220,18 @@ fn build(
 /// supply), scaled by the largest eigenvalue of each member whitened by it. The
 /// ridge is chosen among a few sizes for the smallest scale.
 fn upper_bound<'a>(infos: impl Iterator<Item = &'a Matrix3<f64>> + Clone) -> Matrix3<f64> {
-    let mut mean = Matrix3::zeros();
-    let mut count = 0.0;
-    for j in infos.clone() {
-        mean += j;
-        count += 1.0;
-    }
-    if count == 0.0 {
-        return mean;
-    }
-    mean /= count;
+    let Some(whitening) = Whitening::of(infos.clone()) else {
+        return Matrix3::zeros();
+    };
     let fallback = || Matrix3::identity() * infos.clone().map(|j| j.trace()).fold(0.0, f64::max);
-    let eig = mean.symmetric_eigen();
-    let (mut big, mut weak) = (0, 0);
-    for k in 0..3 {
-        if eig.eigenvalues[k] > eig.eigenvalues[big] {
-            big = k;
-        }
-        if eig.eigenvalues[k] < eig.eigenvalues[weak] {
-            weak = k;
-        }
-    }
-    let top = eig.eigenvalues[big].max(1e-300);
-    let v = eig.eigenvectors.column(weak).into_owned();
     // The ridge by a cheap estimate of each whitened member's largest eigenvalue
     // (Gershgorin's bound); the scale then exactly.
-    let whitener = |ridge: f64| {
-        let q = mean + v * v.transpose() * (ridge * top) + Matrix3::identity() * (1e-15 * top);
-        q.cholesky()
-            .and_then(|c| c.l().try_inverse())
-            .map(|li| (q, li))
-    };
     // Each ridge's rough scale, given up as soon as it cannot beat the best
     // so far; the chosen ridge keeps each member's Gershgorin bound and norm.
     let mut chosen: Option<(f64, Matrix3<f64>, Matrix3<f64>)> = None;
     let (mut rough, mut trial) = (Vec::new(), Vec::new());
     for ridge in BOUND_RIDGES {
-        let Some((q, li)) = whitener(ridge) else {
+        let Some((q, li)) = whitening.at(ridge) else {
             continue;
         };
         trial.clear();
@@ -280,22 +255,73 @@ fn upper_bound<'a>(infos: impl Iterator<Item = &'a Matrix3<f64>> + Clone) -> Mat
             std::mem::swap(&mut rough, &mut trial);
         }
     }
-    let mut best: Option<(f64, Matrix3<f64>)> = None;
-    if let Some((_, q, li)) = chosen {
-        // The exact scale: a member whose Gershgorin bound lies below the
-        // largest eigenvalue found so far, by more than the trigonometric
-        // form's rounding (under 1e-7 of the matrix's norm), cannot raise it.
-        let mut scale = 0.0;
-        for (j, &(bound, norm)) in infos.clone().zip(&rough) {
-            if bound + 1e-6 * norm < scale {
-                continue;
-            }
-            scale = f64::max(scale, max_eigenvalue(&(li * j * li.transpose())));
+    let Some((_, q, li)) = chosen else {
+        return fallback();
+    };
+    // The exact scale: a member whose Gershgorin bound lies below the largest
+    // eigenvalue found so far, by more than the trigonometric form's rounding
+    // (under 1e-7 of the matrix's norm), cannot raise it.
+    let mut scale = 0.0;
+    for (j, &(bound, norm)) in infos.zip(&rough) {
+        if bound + 1e-6 * norm < scale {
+            continue;
         }
-        // A little over, for rounding.
-        best = Some((scale, q * (scale * (1.0 + 1e-9) + 1e-12)));
+        scale = f64::max(scale, max_eigenvalue(&(li * j * li.transpose())));
     }
-    best.map_or_else(fallback, |(_, u)| u)
+    // A little over, for rounding.
+    q * (scale * (1.0 + 1e-9) + 1e-12)
+}
+
+/// A node's members' mean information, its weakest direction and its largest
+/// eigenvalue: what a bound whitens the members by.
+struct Whitening {
+    mean: Matrix3<f64>,
+    weakest: nalgebra::Vector3<f64>,
+    top: f64,
+}
+
+impl Whitening {
+    /// The whitening of `infos` (`None` when there are none).
+    fn of<'a>(infos: impl Iterator<Item = &'a Matrix3<f64>>) -> Option<Self> {
+        let mut mean = Matrix3::zeros();
+        let mut count = 0.0;
+        for j in infos {
+            mean += j;
+            count += 1.0;
+        }
+        if count == 0.0 {
+            return None;
+        }
+        mean /= count;
+        let eig = mean.symmetric_eigen();
+        let (mut big, mut weak) = (0, 0);
+        for k in 0..3 {
+            if eig.eigenvalues[k] > eig.eigenvalues[big] {
+                big = k;
+            }
+            if eig.eigenvalues[k] < eig.eigenvalues[weak] {
+                weak = k;
+            }
+        }
+        Some(Self {
+            mean,
+            weakest: eig.eigenvectors.column(weak).into_owned(),
+            top: eig.eigenvalues[big].max(1e-300),
+        })
+    }
+
+    /// With a ridge of `ridge` times the largest eigenvalue along the weakest
+    /// direction: the definite matrix `Q` and the inverse of its Cholesky
+    /// factor (`None` when `Q` is not definite).
+    fn at(&self, ridge: f64) -> Option<(Matrix3<f64>, Matrix3<f64>)> {
+        let v = &self.weakest;
+        let q = self.mean
+            + v * v.transpose() * (ridge * self.top)
+            + Matrix3::identity() * (1e-15 * self.top);
+        q.cholesky()
+            .and_then(|c| c.l().try_inverse())
+            .map(|li| (q, li))
+    }
 }
 
 /// Gershgorin's bound on the eigenvalues of a symmetric 3×3 matrix, and its

@@ -180,16 +180,22 @@ pub fn place_min_error(
         };
         let movers: Vec<usize> = (0..n).filter(|i| !stayers.contains(i)).collect();
         let stay_cells: Vec<Cell> = stayers.iter().map(|&s| here[s]).collect();
-        let usable = |i: usize| {
-            lattice[i]
-                .iter()
-                .copied()
-                .filter(|&j| clear_of(&spacing, g.cell(j as usize), &stay_cells))
-        };
-        // The information of the spots not met before, in parallel.
-        let mut new: Vec<u32> = movers
+        // Each mover's lattice spots clear of the children that stay.
+        let usable: Vec<Vec<u32>> = movers
             .iter()
-            .flat_map(|&i| usable(i))
+            .map(|&i| {
+                lattice[i]
+                    .iter()
+                    .copied()
+                    .filter(|&j| clear_of(&spacing, g.cell(j as usize), &stay_cells))
+                    .collect()
+            })
+            .collect();
+        // The information of the spots not met before, in parallel.
+        let mut new: Vec<u32> = usable
+            .iter()
+            .flatten()
+            .copied()
             .filter(|j| !infos.contains_key(j))
             .collect();
         new.sort_unstable();
@@ -201,9 +207,11 @@ pub fn place_min_error(
         infos.extend(new.into_iter().zip(computed));
         let spots: Vec<Vec<Spot>> = movers
             .iter()
-            .map(|&i| {
-                usable(i)
-                    .filter_map(|j| infos.get(&j).map(|&info| spot_at(&g, j, info, here[i])))
+            .zip(&usable)
+            .map(|(&i, cells)| {
+                cells
+                    .iter()
+                    .filter_map(|&j| infos.get(&j).map(|&info| spot_at(&g, j, info, here[i])))
                     .collect()
             })
             .collect();

@@ -102,49 +102,48 @@ impl GroundTruthWalls {
         let mut best2 = f64::INFINITY;
         let (x0, x1) = ((cx - k).max(0), (cx + k).min(g.width as i64 - 1));
         let (y0, y1) = ((cy - k).max(0), (cy + k).min(g.height as i64 - 1));
-        let row = |y: i64, best2: &mut f64| -> bool {
-            let dy = (y as f64 - fy).max(fy - (y as f64 + 1.0)).max(0.0);
+        outward(cy, y0, y1, |y| {
+            let dy = gap(y, fy);
             let dy2 = dy * dy;
-            if dy2 >= *best2 {
+            if dy2 >= best2 {
                 return false;
             }
             let cells = &self.solid[y as usize * g.width..][..g.width];
-            let column = |x: i64, best2: &mut f64| -> bool {
-                let dx = (x as f64 - fx).max(fx - (x as f64 + 1.0)).max(0.0);
+            outward(cx, x0, x1, |x| {
+                let dx = gap(x, fx);
                 let d2 = dx * dx + dy2;
-                if d2 >= *best2 {
+                if d2 >= best2 {
                     return false;
                 }
                 if cells[x as usize] == want_solid {
-                    *best2 = d2;
+                    best2 = d2;
                 }
                 true
-            };
-            let mid = cx.clamp(x0, x1);
-            for x in mid..=x1 {
-                if !column(x, best2) {
-                    break;
-                }
-            }
-            for x in (x0..mid).rev() {
-                if !column(x, best2) {
-                    break;
-                }
-            }
+            });
             true
-        };
-        let mid = cy.clamp(y0, y1);
-        for y in mid..=y1 {
-            if !row(y, &mut best2) {
-                break;
-            }
-        }
-        for y in (y0..mid).rev() {
-            if !row(y, &mut best2) {
-                break;
-            }
-        }
+        });
         best2.sqrt()
+    }
+}
+
+/// The distance, in cells, from `f` to the cell `v`'s span `[v, v + 1]`.
+fn gap(v: i64, f: f64) -> f64 {
+    (v as f64 - f).max(f - (v as f64 + 1.0)).max(0.0)
+}
+
+/// Visits `mid` (clamped to `lo..=hi`) and the values above it in order, then
+/// those below it in order, each direction until `visit` says stop.
+fn outward(mid: i64, lo: i64, hi: i64, mut visit: impl FnMut(i64) -> bool) {
+    let mid = mid.clamp(lo, hi);
+    for v in mid..=hi {
+        if !visit(v) {
+            break;
+        }
+    }
+    for v in (lo..mid).rev() {
+        if !visit(v) {
+            break;
+        }
     }
 }
 

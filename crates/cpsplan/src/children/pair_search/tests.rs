@@ -162,34 +162,16 @@ mod eig {
         }
     }
 
-    /// The node bound as first written: every ridge scored over every member,
-    /// the scale from every member's largest eigenvalue.
+    /// The node bound's passes as first written (the same whitening): every
+    /// ridge scored over every member, the scale from every member's largest
+    /// eigenvalue.
     fn plain_upper_bound<'a>(
         infos: impl Iterator<Item = &'a Matrix3<f64>> + Clone,
     ) -> Matrix3<f64> {
-        let mut mean = Matrix3::zeros();
-        let mut count = 0.0;
-        for j in infos.clone() {
-            mean += j;
-            count += 1.0;
-        }
-        mean /= count;
-        let eig = mean.symmetric_eigen();
-        let (mut big, mut weak) = (0, 0);
-        for k in 0..3 {
-            if eig.eigenvalues[k] > eig.eigenvalues[big] {
-                big = k;
-            }
-            if eig.eigenvalues[k] < eig.eigenvalues[weak] {
-                weak = k;
-            }
-        }
-        let top = eig.eigenvalues[big].max(1e-300);
-        let v = eig.eigenvectors.column(weak).into_owned();
+        let whitening = Whitening::of(infos.clone()).expect("members");
         let mut chosen: Option<(f64, Matrix3<f64>, Matrix3<f64>)> = None;
         for ridge in BOUND_RIDGES {
-            let q = mean + v * v.transpose() * (ridge * top) + Matrix3::identity() * (1e-15 * top);
-            let Some(li) = q.cholesky().and_then(|c| c.l().try_inverse()) else {
+            let Some((q, li)) = whitening.at(ridge) else {
                 continue;
             };
             let rough = infos
