@@ -12,7 +12,7 @@
 
 use thiserror::Error;
 
-use super::and_region::{and_region, ChildReach};
+use super::and_region::{and_region, AndRegion, ChildReach};
 use super::clearance::clearances;
 use super::maps::StepMaps;
 use super::placement::{place_children, Placement, Spot};
@@ -69,7 +69,7 @@ pub enum CycleError {
 
 /// The children's places for the cycle from `parent_from` to `parent_to` (paths
 /// not yet planned: each moving child's path is just its two ends); `reach[i]` is
-/// child `i`'s [`ChildReach`].
+/// child `i`'s [`ChildReach`]. [`frame_cycle`] then [`CycleFrame::place_eq2`].
 pub fn place_cycle(
     maps: &StepMaps,
     parent_from: Cell,
@@ -77,6 +77,38 @@ pub fn place_cycle(
     children: &[Cell],
     reach: &[ChildReach],
 ) -> Result<CpsCycle, CycleError> {
+    frame_cycle(maps, parent_from, parent_to, children, reach)?.place_eq2(maps)
+}
+
+/// A cycle before its spots are chosen (section IV-B): the children's AND
+/// regions, which children stay, and the cells each moving child may take.
+#[derive(Debug, Clone)]
+pub struct CycleFrame {
+    /// The parent's position during the children's move.
+    pub parent_from: Cell,
+    /// The parent's position after its move.
+    pub parent_to: Cell,
+    /// Where the children stand before the cycle.
+    pub children: Vec<Cell>,
+    /// Every child's AND region.
+    pub regions: Vec<AndRegion>,
+    /// The children that move, in order.
+    movers: Vec<usize>,
+    /// Per mover, the cells of its AND region clear of the children that stay.
+    usable: Vec<Vec<u32>>,
+}
+
+/// The frame of the cycle from `parent_from` to `parent_to`: a child in its AND
+/// region stays, unless a child that stays already hides it (or it hides one)
+/// from the parent's new position; a child that must move and has no AND region
+/// is [`CycleError::NoAndRegion`].
+pub fn frame_cycle(
+    maps: &StepMaps,
+    parent_from: Cell,
+    parent_to: Cell,
+    children: &[Cell],
+    reach: &[ChildReach],
+) -> Result<CycleFrame, CycleError> {
     let params = maps.params();
     let g = *maps.knowledge().geometry();
     let mutual = maps.mutual_view(parent_from, parent_to);
@@ -84,8 +116,6 @@ pub fn place_cycle(
     let radius = params.child_radius / g.resolution;
     let marker = params.marker_radius / g.resolution;
     let parents = [parent_from, parent_to];
-    // A child in its AND region stays, unless a child that stays already hides it
-    // (or it hides one) from the parent's new position.
     let mut stays: Vec<bool> = Vec::with_capacity(children.len());
     for (i, (&c, r)) in children.iter().zip(&regions).enumerate() {
         let clear = (0..i)
@@ -101,78 +131,143 @@ pub fn place_cycle(
         .filter(|&s| stays[s])
         .map(|s| children[s])
         .collect();
-    // Clearance (Eq. 2's 1/P) of every cell any moving child may take, at once.
-    let mut candidates: Vec<u32> = movers
-        .iter()
-        .flat_map(|&i| regions[i].cells.iter().copied())
-        .collect();
-    candidates.sort_unstable();
-    candidates.dedup();
-    let clearance = clearances(maps.knowledge(), &candidates, params.eq2.clearance_cap);
-    let clearance_of = |j: u32| {
-        let k = candidates.binary_search(&j);
-        clearance[k.expect("every region cell is a candidate")]
-    };
-    let spots: Vec<Vec<Spot>> = movers
+    // Keep clear of children that stay, and off their lines of sight.
+    let usable = movers
         .iter()
         .map(|&i| {
             regions[i]
                 .cells
                 .iter()
-                .map(|&j| (j, g.cell(j as usize)))
-                // Keep clear of children that stay, and off their lines of sight.
-                .filter(|&(_, c)| {
+                .copied()
+                .filter(|&j| {
+                    let c = g.cell(j as usize);
                     staying
                         .iter()
                         .all(|&s| apart(c, s, &parents, radius, marker))
                 })
-                .map(|(j, cell)| Spot {
-                    cell,
-                    clearance: clearance_of(j),
-                })
                 .collect()
         })
         .collect();
-    let placed = place_children(
-        &g,
-        &spots,
-        parent_to,
-        params.child_radius,
-        params.marker_radius,
-        &parents,
-        &params.eq2,
-    );
-    let mut out: Vec<CycleChild> = children
-        .iter()
-        .zip(&regions)
-        .map(|(&c, r)| CycleChild {
-            from: c,
-            to: c,
-            stays: true,
-            path: vec![c],
-            placement: None,
-            and_region_cells: r.size(),
-        })
-        .collect();
-    for (k, &i) in movers.iter().enumerate() {
-        let Some(p) = placed[k] else {
-            return Err(CycleError::NoJointPlacement);
-        };
-        out[i] = CycleChild {
-            from: children[i],
-            to: p.cell,
-            stays: false,
-            path: vec![children[i], p.cell],
-            placement: Some(p),
-            and_region_cells: regions[i].size(),
-        };
-    }
-    Ok(CpsCycle {
+    Ok(CycleFrame {
         parent_from,
         parent_to,
-        children: out,
-        search_gap: None,
+        children: children.to_vec(),
+        regions,
+        movers,
+        usable,
     })
+}
+
+impl CycleFrame {
+    /// Whether [`place_eq2`](Self::place_eq2) would place every moving child,
+    /// known without Eq. (2) for up to two movers (some spot each, and for two
+    /// some pair of spots [`apart`]: Eq. (2)'s exact search finds a pair exactly
+    /// when one exists); `None` for three or more (pairs placed in turn may
+    /// leave no room for the last).
+    pub fn placeable(&self, maps: &StepMaps) -> Option<bool> {
+        let g = maps.knowledge().geometry();
+        let params = maps.params();
+        let (radius, marker) = (
+            params.child_radius / g.resolution,
+            params.marker_radius / g.resolution,
+        );
+        let parents = [self.parent_from, self.parent_to];
+        match self.usable.as_slice() {
+            [] => Some(true),
+            [a] => Some(!a.is_empty()),
+            [a, b] => Some(a.iter().any(|&p| {
+                let p = g.cell(p as usize);
+                b.iter()
+                    .any(|&q| apart(p, g.cell(q as usize), &parents, radius, marker))
+            })),
+            _ => None,
+        }
+    }
+
+    /// The cycle with the moving children's spots chosen jointly by Eq. (2)
+    /// ([`place_children`]); [`CycleError::NoJointPlacement`] when they do not
+    /// all fit.
+    pub fn place_eq2(&self, maps: &StepMaps) -> Result<CpsCycle, CycleError> {
+        let params = maps.params();
+        let g = *maps.knowledge().geometry();
+        let parents = [self.parent_from, self.parent_to];
+        // Clearance (Eq. 2's 1/P) of every cell any moving child may take, at once.
+        let mut candidates: Vec<u32> = self
+            .movers
+            .iter()
+            .flat_map(|&i| self.regions[i].cells.iter().copied())
+            .collect();
+        candidates.sort_unstable();
+        candidates.dedup();
+        let clearance = clearances(maps.knowledge(), &candidates, params.eq2.clearance_cap);
+        let clearance_of = |j: u32| {
+            let k = candidates.binary_search(&j);
+            clearance[k.expect("every region cell is a candidate")]
+        };
+        let spots: Vec<Vec<Spot>> = self
+            .usable
+            .iter()
+            .map(|cells| {
+                cells
+                    .iter()
+                    .map(|&j| Spot {
+                        cell: g.cell(j as usize),
+                        clearance: clearance_of(j),
+                    })
+                    .collect()
+            })
+            .collect();
+        let placed = place_children(
+            &g,
+            &spots,
+            self.parent_to,
+            params.child_radius,
+            params.marker_radius,
+            &parents,
+            &params.eq2,
+        );
+        let mut out: Vec<CycleChild> = self
+            .children
+            .iter()
+            .zip(&self.regions)
+            .map(|(&c, r)| CycleChild::staying(c, r.size()))
+            .collect();
+        for (k, &i) in self.movers.iter().enumerate() {
+            let Some(p) = placed[k] else {
+                return Err(CycleError::NoJointPlacement);
+            };
+            let from = self.children[i];
+            out[i] = CycleChild {
+                from,
+                to: p.cell,
+                stays: false,
+                path: vec![from, p.cell],
+                placement: Some(p),
+                and_region_cells: self.regions[i].size(),
+            };
+        }
+        Ok(CpsCycle {
+            parent_from: self.parent_from,
+            parent_to: self.parent_to,
+            children: out,
+            search_gap: None,
+        })
+    }
+}
+
+impl CycleChild {
+    /// A child that stays at `at` through the cycle; its AND region has `region`
+    /// cells.
+    pub fn staying(at: Cell, region: usize) -> Self {
+        Self {
+            from: at,
+            to: at,
+            stays: true,
+            path: vec![at],
+            placement: None,
+            and_region_cells: region,
+        }
+    }
 }
 
 /// Cycle fixtures shared by the tests of the CPS stages.
@@ -182,7 +277,7 @@ pub(crate) mod tests {
     use crate::children::params::CycleParams;
     use crate::children::placement::Eq2;
     use crate::grid::fixtures::{l_corridor, u_corridor};
-    use crate::grid::OccupancyGrid;
+    use crate::grid::{CellState, OccupancyGrid};
     use crate::sensing::{certain_view, LinkRule};
 
     /// Cycle parameters with the paper's Eq. (2) targets.
@@ -253,6 +348,35 @@ pub(crate) mod tests {
         assert!(cycle.children[0].stays);
         assert_eq!(cycle.children[0].to, children[0]);
         assert_eq!(cycle.children[0].path, vec![children[0]]);
+    }
+
+    proptest::proptest! {
+        /// Whether Eq. (2) places every moving child is known without it for up
+        /// to two movers: on rooms cluttered at random, with the parent's two
+        /// positions and the children anywhere free, `placeable` says exactly
+        /// whether `place_eq2` succeeds.
+        #[test]
+        fn placeable_is_whether_eq2_places(
+            blocks in proptest::collection::vec((0usize..36, 0usize..26, 1usize..8, 1usize..8), 0..5),
+            spots in proptest::collection::vec((1usize..39, 1usize..29), 4),
+        ) {
+            let g = crate::grid::GridGeometry::new(40, 30, 0.1, crate::geom::Point::default());
+            let mut k = OccupancyGrid::filled(g, CellState::Occupied);
+            k.fill_rect(1, 1, 39, 29, CellState::Free);
+            for &(x, y, w, h) in &blocks {
+                k.fill_rect(x, y, (x + w).min(39), (y + h).min(29), CellState::Occupied);
+            }
+            let cells: Vec<Cell> = spots.iter().map(|&(x, y)| Cell::new(x, y)).collect();
+            proptest::prop_assume!(cells.iter().all(|&c| k.get(c) == CellState::Free));
+            let (from, to, children) = (cells[0], cells[1], &cells[2..]);
+            let params = params();
+            let maps = StepMaps::new(&k, from, params.child_radius, &params);
+            let reach: Vec<ChildReach> = children.iter().map(|&c| maps.reach(c)).collect();
+            if let Ok(frame) = frame_cycle(&maps, from, to, children, &reach) {
+                let placed = frame.place_eq2(&maps);
+                proptest::prop_assert_eq!(frame.placeable(&maps), Some(placed.is_ok()));
+            }
+        }
     }
 
     #[test]

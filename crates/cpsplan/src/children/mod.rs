@@ -12,7 +12,8 @@
 //! - [`StepMaps`]: what every cycle, subgoal and candidate of one step shares.
 //! - [`and_region()`], [`ChildReach`]: the AND region.
 //! - [`place_children`], [`Eq2`]: Eq. (2); [`clearances`]: its `1/P`.
-//! - [`place_cycle`], [`CpsCycle`]: one cycle.
+//! - [`place_cycle`], [`CpsCycle`]: one cycle; [`frame_cycle`], [`CycleFrame`]:
+//!   its AND regions and who stays, before any spots are chosen.
 //! - [`place_random`], [`place_min_error`]: the strategies beyond Eq. (2)'s
 //!   weights (random spots; the spots that minimise the predicted error).
 
@@ -28,7 +29,7 @@ mod strategy;
 
 pub use and_region::{and_region, AndRegion, ChildReach};
 pub use clearance::clearances;
-pub use cycle::{place_cycle, CpsCycle, CycleChild, CycleError};
+pub use cycle::{frame_cycle, place_cycle, CpsCycle, CycleChild, CycleError, CycleFrame};
 pub use maps::StepMaps;
 pub use pair_search::SEARCH_GAP;
 pub use params::{target_rule, CycleParams};

@@ -2,8 +2,9 @@
 //! (a) random spots, and (e) the spots that minimise the predicted error of the
 //! parent's next pose.
 //!
-//! In: a cycle already placed by Eq. (2) (so known to be feasible), the step's
-//! maps, and for `min-error` the CPS chain before the cycle. Out: the cycle with
+//! In: the step's maps; for `random` a cycle already placed by Eq. (2) (so known
+//! to be feasible), for `min-error` the cycle's [`CycleFrame`] (its AND regions,
+//! known to be placeable) and the CPS chain before the cycle. Out: the cycle with
 //! the strategy's spots.
 //!
 //! # `min-error`
@@ -28,7 +29,7 @@ use rayon::prelude::*;
 
 use super::and_region::{and_region, AndRegion, ChildReach};
 use super::clearance::clearances;
-use super::cycle::{CpsCycle, CycleChild};
+use super::cycle::{CpsCycle, CycleChild, CycleFrame};
 use super::maps::StepMaps;
 use super::pair_search::{best_pair, best_single, descend, Gap, Spot, SEARCH_GAP};
 use super::placement::Placement;
@@ -52,7 +53,7 @@ pub fn place_random(
     rng: &mut ChaCha8Rng,
 ) -> CpsCycle {
     let g = *maps.knowledge().geometry();
-    let spacing = spacing_of(maps, cycle);
+    let spacing = spacing_of(maps, cycle.parent_from, cycle.parent_to);
     let regions = regions(maps, cycle, reach);
     let mut out = cycle.clone();
     let mut taken: Vec<Cell> = cycle
@@ -132,27 +133,27 @@ const POLISH_ROUNDS: usize = 4;
 
 /// Strategy (e): the spots, and whether each child stays, that minimise the
 /// predicted error of the parent's next pose plus `travel_weight` (mm of σ per
-/// metre of child travel) times the children's travel; `chain` is the CPS chain
-/// before the cycle. `None` when no choice fixes the next pose.
+/// metre of child travel) times the children's travel, over the AND regions of
+/// `frame`; `chain` is the CPS chain before the cycle. `None` when no choice
+/// fixes the next pose.
 pub fn place_min_error(
     maps: &StepMaps,
-    cycle: &CpsCycle,
-    reach: &[ChildReach],
+    frame: &CycleFrame,
     chain: &Chain,
     travel_weight: f64,
 ) -> Option<CpsCycle> {
     let g = *maps.knowledge().geometry();
-    let spacing = spacing_of(maps, cycle);
-    let regions = regions(maps, cycle, reach);
-    let n = cycle.children.len();
+    let spacing = spacing_of(maps, frame.parent_from, frame.parent_to);
+    let regions = &frame.regions;
+    let n = frame.children.len();
     let measured = chain.points();
-    let here: Vec<Cell> = cycle.children.iter().map(|c| c.from).collect();
+    let here = &frame.children;
     let may_stay: Vec<usize> = (0..n)
         .filter(|&i| regions[i].contains(g.index(here[i])) && measured[i].is_some())
         .collect();
     let lambda = travel_weight * 1e-3;
-    let to = g.cell_center(cycle.parent_to);
-    let sighted = chain.in_sight(maps.knowledge(), cycle.parent_to, &maps.params().targets);
+    let to = g.cell_center(frame.parent_to);
+    let sighted = chain.in_sight(maps.knowledge(), frame.parent_to, &maps.params().targets);
     let pitch = spot_pitch(&g);
     let lattice: Vec<Vec<u32>> = regions
         .iter()
@@ -259,25 +260,20 @@ pub fn place_min_error(
         }
     }
     let best = best?;
-    let cells = polish(&best, &regions, &here, &spacing, lambda, pitch, &g);
-    let mut out = cycle.clone();
-    for (i, child) in out.children.iter_mut().enumerate() {
-        match best.movers.iter().position(|&m| m == i) {
-            Some(k) => *child = moved(maps, here[i], cells[k], cycle.parent_to, regions[i].size()),
-            None => {
-                *child = CycleChild {
-                    from: here[i],
-                    to: here[i],
-                    stays: true,
-                    path: vec![here[i]],
-                    placement: None,
-                    and_region_cells: regions[i].size(),
-                }
-            }
-        }
-    }
+    let cells = polish(&best, regions, here, &spacing, lambda, pitch, &g);
+    let children = (0..n)
+        .map(|i| match best.movers.iter().position(|&m| m == i) {
+            Some(k) => moved(maps, here[i], cells[k], frame.parent_to, regions[i].size()),
+            None => CycleChild::staying(here[i], regions[i].size()),
+        })
+        .collect();
+    let mut out = CpsCycle {
+        parent_from: frame.parent_from,
+        parent_to: frame.parent_to,
+        children,
+        search_gap: Some(best.gap),
+    };
     fill_angles(&mut out);
-    out.search_gap = Some(best.gap);
     Some(out)
 }
 
@@ -302,11 +298,12 @@ fn spot_pitch(g: &GridGeometry) -> usize {
     }
 }
 
-/// Where the children of `cycle` may stand together, on the step's maps.
-fn spacing_of(maps: &StepMaps, cycle: &CpsCycle) -> Spacing {
+/// Where the children of the cycle from `parent_from` to `parent_to` may stand
+/// together, on the step's maps.
+fn spacing_of(maps: &StepMaps, parent_from: Cell, parent_to: Cell) -> Spacing {
     let g = maps.knowledge().geometry();
     Spacing {
-        parents: vec![cycle.parent_from, cycle.parent_to],
+        parents: vec![parent_from, parent_to],
         radius: maps.params().child_radius / g.resolution,
         marker: maps.params().marker_radius / g.resolution,
     }

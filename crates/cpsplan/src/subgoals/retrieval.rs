@@ -27,8 +27,8 @@ use thiserror::Error;
 use super::visgraph::VisibilityGraph;
 use crate::accuracy::Chain;
 use crate::children::{
-    place_cycle, place_min_error, place_random, ChildReach, CpsCycle, CycleError, CycleParams,
-    StepMaps,
+    frame_cycle, place_min_error, place_random, ChildReach, CpsCycle, CycleError, CycleFrame,
+    CycleParams, StepMaps,
 };
 use crate::config::ChildStrategy;
 use crate::geom::Cell;
@@ -150,17 +150,38 @@ fn retrieve(
     chain: &mut Option<Chain>,
 ) -> Result<MovePlan, MoveError> {
     let maps = retrieval.maps;
-    // The legs are found with the Eq. (2) spots (cheap, and feasible exactly when
-    // any spots are); the leg taken then gets the strategy's spots.
+    // The legs are found by whether Eq. (2) can place the children (feasible
+    // exactly when any spots are); the leg taken then gets the strategy's spots.
+    // Under `min-error` the Eq. (2) spots are chosen only when that search finds
+    // none (up to two movers: whether they fit is known without them).
     let strategy = retrieval.strategy.unwrap_or(maps.params().strategy);
-    let finish = |cycle: CpsCycle, reach: &[ChildReach], chain: &mut Option<Chain>| {
+    let leg = |from: Cell, to: Cell, kids: &[Cell], reach: &[ChildReach]| {
+        let frame = frame_cycle(maps, from, to, kids, reach)?;
+        match frame.placeable(maps) {
+            Some(true) if strategy == ChildStrategy::MinError => Ok(Leg { frame, eq2: None }),
+            Some(false) => Err(CycleError::NoJointPlacement),
+            _ => {
+                let eq2 = frame.place_eq2(maps)?;
+                Ok(Leg {
+                    frame,
+                    eq2: Some(eq2),
+                })
+            }
+        }
+    };
+    let finish = |leg: Leg, reach: &[ChildReach], chain: &mut Option<Chain>| {
+        let Leg { frame, eq2 } = leg;
+        let eq2 = || eq2.map_or_else(|| frame.place_eq2(maps), Ok);
         let placed = match strategy {
-            ChildStrategy::Random => place_random(maps, &cycle, reach, &mut maps.rng()),
-            ChildStrategy::MinError => chain
+            ChildStrategy::Random => place_random(maps, &eq2()?, reach, &mut maps.rng()),
+            ChildStrategy::MinError => match chain
                 .as_ref()
-                .and_then(|c| place_min_error(maps, &cycle, reach, c, maps.params().travel_weight))
-                .unwrap_or(cycle),
-            _ => cycle,
+                .and_then(|c| place_min_error(maps, &frame, c, maps.params().travel_weight))
+            {
+                Some(cycle) => cycle,
+                None => eq2()?,
+            },
+            _ => eq2()?,
         };
         if let Some(c) = chain.as_mut() {
             let g = maps.knowledge().geometry();
@@ -177,7 +198,7 @@ fn retrieve(
                 *chain = None;
             }
         }
-        placed
+        Ok::<_, CycleError>(placed)
     };
     let done = |cycles: Vec<CpsCycle>, graph_path: Vec<Cell>| -> Result<MovePlan, MoveError> {
         Ok(MovePlan {
@@ -197,8 +218,12 @@ fn retrieve(
         return Err(MoveError::ChildCutOff { child });
     }
     // Step 1.
-    match place_cycle(maps, from, to, children, &reach) {
-        Ok(cycle) => return done(vec![finish(cycle, &reach, chain)], Vec::new()),
+    let stuck = |at: Cell| move |_: CycleError| MoveError::Stuck { at };
+    match leg(from, to, children, &reach) {
+        Ok(leg) => {
+            let cycle = finish(leg, &reach, chain).map_err(stuck(from))?;
+            return done(vec![cycle], Vec::new());
+        }
         Err(CycleError::NoAndRegion { .. } | CycleError::NoJointPlacement) => {}
     }
     // Step 2. No drivable path at all means no Visibility Graph path either (its
@@ -242,9 +267,7 @@ fn retrieve(
             if too_far(path[here], path[j]) {
                 return None;
             }
-            place_cycle(maps, path[here], path[j], &kids, &reach)
-                .ok()
-                .map(|c| (j, c))
+            leg(path[here], path[j], &kids, &reach).ok().map(|c| (j, c))
         });
         // Step 6 taken further when even the nearest subgoal fails: points of the
         // leg to it, every FINE_SPACING_M metres, nearest last.
@@ -253,11 +276,7 @@ fn retrieve(
             fine.get(1..fine.len().saturating_sub(1))?
                 .iter()
                 .rev()
-                .find_map(|&p| {
-                    place_cycle(maps, path[here], p, &kids, &reach)
-                        .ok()
-                        .map(|c| (p, c))
-                })
+                .find_map(|&p| leg(path[here], p, &kids, &reach).ok().map(|c| (p, c)))
                 .map(|(p, c)| {
                     path.insert(here + 1, p);
                     (here + 1, c)
@@ -266,13 +285,20 @@ fn retrieve(
         let Some((j, cycle)) = next else {
             return Err(MoveError::Stuck { at: path[here] });
         };
-        let cycle = finish(cycle, &reach, chain);
+        let cycle = finish(cycle, &reach, chain).map_err(stuck(path[here]))?;
         kids = cycle.children.iter().map(|c| c.to).collect();
         reach = reach_of(&kids);
         cycles.push(cycle);
         here = j;
     }
     done(cycles, corners)
+}
+
+/// A leg whose cycle can be planned: its frame, and its Eq. (2) cycle unless
+/// the strategy may not need it.
+struct Leg {
+    frame: CycleFrame,
+    eq2: Option<CpsCycle>,
 }
 
 /// Spacing, metres, of the points tried on the leg to the next subgoal when no
