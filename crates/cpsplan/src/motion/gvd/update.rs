@@ -119,11 +119,30 @@ impl VoronoiField {
                 (right[y * pw + x], up[y * pw + x]) = tester.pairs(x, y);
             }
         };
-        for &(py, a, b) in &changes {
-            for y in py.saturating_sub(1)..=py {
-                for x in a.saturating_sub(1)..=b {
-                    retest(x, y);
+        // The pairs of a cell read its own feature and those of its right and
+        // upper neighbours: the changed cells and their left and lower
+        // neighbours are tested again, each once (a row's span and the next
+        // row's, one below it, merged).
+        let span = |&(_, a, b): &(usize, usize, usize)| (a.saturating_sub(1), b);
+        let mut retest_row = |y: usize, (lo, hi): (usize, usize)| {
+            for x in lo..=hi {
+                retest(x, y);
+            }
+        };
+        for (i, change) in changes.iter().enumerate() {
+            let (py, here) = (change.0, span(change));
+            if py > 0 && (i == 0 || changes[i - 1].0 + 1 != py) {
+                retest_row(py - 1, here);
+            }
+            match changes.get(i + 1).filter(|next| next.0 == py + 1).map(span) {
+                Some(above) if above.0 <= here.1 + 1 && here.0 <= above.1 + 1 => {
+                    retest_row(py, (here.0.min(above.0), here.1.max(above.1)));
                 }
+                Some(above) => {
+                    retest_row(py, here);
+                    retest_row(py, above);
+                }
+                None => retest_row(py, here),
             }
         }
         if let Regrouping::Split(minor) = regrouping {
