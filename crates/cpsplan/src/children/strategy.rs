@@ -309,25 +309,47 @@ fn spacing_of(maps: &StepMaps, parent_from: Cell, parent_to: Cell) -> Spacing {
     }
 }
 
-/// One cell per `pitch` × `pitch` square of the grid among `cells`: the member
-/// nearest the square's centre (the lower index on a tie), ascending.
+/// One cell per `pitch` × `pitch` square of the grid among `cells` (ascending
+/// indices, as an AND region's): the member nearest the square's centre (the
+/// lower index on a tie), ascending.
 fn thinned(g: &GridGeometry, cells: &[u32], pitch: usize) -> Vec<u32> {
     if pitch <= 1 {
         return cells.to_vec();
     }
-    let mut nearest: HashMap<(usize, usize), (usize, u32)> = HashMap::new();
+    debug_assert!(cells.windows(2).all(|w| w[0] < w[1]));
+    // Ascending cells visit the squares one row of squares at a time: the
+    // nearest member so far of each square of the current row, by column.
+    let mut nearest: Vec<Option<(usize, u32)>> = vec![None; g.width.div_ceil(pitch)];
+    let mut touched: Vec<usize> = Vec::new();
+    let mut out: Vec<u32> = Vec::new();
+    let mut flush = |nearest: &mut [Option<(usize, u32)>], touched: &mut Vec<usize>| {
+        out.extend(
+            touched
+                .drain(..)
+                .filter_map(|s| nearest[s].take().map(|(_, j)| j)),
+        );
+    };
+    let mut square_row = None;
     for &j in cells {
         let c = g.cell(j as usize);
         let square = (c.x / pitch, c.y / pitch);
+        if square_row != Some(square.1) {
+            flush(&mut nearest, &mut touched);
+            square_row = Some(square.1);
+        }
         // Twice the offset from the square's centre, in cells.
         let off = |v: usize, s: usize| (2 * v).abs_diff(2 * s * pitch + pitch - 1);
         let d = off(c.x, square.0).pow(2) + off(c.y, square.1).pow(2);
-        nearest
-            .entry(square)
-            .and_modify(|e| *e = (*e).min((d, j)))
-            .or_insert((d, j));
+        let entry = &mut nearest[square.0];
+        match entry {
+            Some(e) => *e = (*e).min((d, j)),
+            None => {
+                *entry = Some((d, j));
+                touched.push(square.0);
+            }
+        }
     }
-    let mut out: Vec<u32> = nearest.into_values().map(|(_, j)| j).collect();
+    flush(&mut nearest, &mut touched);
     out.sort_unstable();
     out
 }
