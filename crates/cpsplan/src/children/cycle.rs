@@ -16,7 +16,7 @@ use super::and_region::{and_region, AndRegion, ChildReach};
 use super::clearance::clearances;
 use super::maps::StepMaps;
 use super::placement::{place_children, Placement, Spot};
-use super::spacing::apart;
+use super::spacing::Spacing;
 use crate::geom::Cell;
 
 /// What one child does during a cycle.
@@ -96,6 +96,8 @@ pub struct CycleFrame {
     movers: Vec<usize>,
     /// Per mover, the cells of its AND region clear of the children that stay.
     usable: Vec<Vec<u32>>,
+    /// Where the children may stand together.
+    pub(super) spacing: Spacing,
 }
 
 /// The frame of the cycle from `parent_from` to `parent_to`: a child in its AND
@@ -109,18 +111,15 @@ pub fn frame_cycle(
     children: &[Cell],
     reach: &[ChildReach],
 ) -> Result<CycleFrame, CycleError> {
-    let params = maps.params();
     let g = *maps.knowledge().geometry();
     let mutual = maps.mutual_view(parent_from, parent_to);
     let regions: Vec<_> = reach.iter().map(|r| and_region(&mutual, r)).collect();
-    let radius = params.child_radius / g.resolution;
-    let marker = params.marker_radius / g.resolution;
-    let parents = [parent_from, parent_to];
+    let spacing = Spacing::of(maps, parent_from, parent_to);
     let mut stays: Vec<bool> = Vec::with_capacity(children.len());
     for (i, (&c, r)) in children.iter().zip(&regions).enumerate() {
         let clear = (0..i)
             .filter(|&k| stays[k])
-            .all(|k| apart(c, children[k], &parents, radius, marker));
+            .all(|k| spacing.ok(c, children[k]));
         stays.push(r.contains(g.index(c)) && clear);
     }
     if let Some(child) = (0..children.len()).find(|&i| !stays[i] && regions[i].size() == 0) {
@@ -141,9 +140,7 @@ pub fn frame_cycle(
                 .copied()
                 .filter(|&j| {
                     let c = g.cell(j as usize);
-                    staying
-                        .iter()
-                        .all(|&s| apart(c, s, &parents, radius, marker))
+                    staying.iter().all(|&s| spacing.ok(c, s))
                 })
                 .collect()
         })
@@ -155,30 +152,24 @@ pub fn frame_cycle(
         regions,
         movers,
         usable,
+        spacing,
     })
 }
 
 impl CycleFrame {
     /// Whether [`place_eq2`](Self::place_eq2) would place every moving child,
     /// known without Eq. (2) for up to two movers (some spot each, and for two
-    /// some pair of spots [`apart`]: Eq. (2)'s exact search finds a pair exactly
+    /// some pair of spots [`apart`](super::apart): Eq. (2)'s exact search finds a pair exactly
     /// when one exists); `None` for three or more (pairs placed in turn may
     /// leave no room for the last).
     pub fn placeable(&self, maps: &StepMaps) -> Option<bool> {
         let g = maps.knowledge().geometry();
-        let params = maps.params();
-        let (radius, marker) = (
-            params.child_radius / g.resolution,
-            params.marker_radius / g.resolution,
-        );
-        let parents = [self.parent_from, self.parent_to];
         match self.usable.as_slice() {
             [] => Some(true),
             [a] => Some(!a.is_empty()),
             [a, b] => Some(a.iter().any(|&p| {
                 let p = g.cell(p as usize);
-                b.iter()
-                    .any(|&q| apart(p, g.cell(q as usize), &parents, radius, marker))
+                b.iter().any(|&q| self.spacing.ok(p, g.cell(q as usize)))
             })),
             _ => None,
         }

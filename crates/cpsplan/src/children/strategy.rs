@@ -53,7 +53,7 @@ pub fn place_random(
     rng: &mut ChaCha8Rng,
 ) -> CpsCycle {
     let g = *maps.knowledge().geometry();
-    let spacing = spacing_of(maps, cycle.parent_from, cycle.parent_to);
+    let spacing = Spacing::of(maps, cycle.parent_from, cycle.parent_to);
     let regions = regions(maps, cycle, reach);
     let mut out = cycle.clone();
     let mut taken: Vec<Cell> = cycle
@@ -143,7 +143,7 @@ pub fn place_min_error(
     travel_weight: f64,
 ) -> Option<CpsCycle> {
     let g = *maps.knowledge().geometry();
-    let spacing = spacing_of(maps, frame.parent_from, frame.parent_to);
+    let spacing = &frame.spacing;
     let regions = &frame.regions;
     let n = frame.children.len();
     let measured = chain.points();
@@ -188,7 +188,7 @@ pub fn place_min_error(
                 lattice[i]
                     .iter()
                     .copied()
-                    .filter(|&j| clear_of(&spacing, g.cell(j as usize), &stay_cells))
+                    .filter(|&j| clear_of(spacing, g.cell(j as usize), &stay_cells))
                     .collect()
             })
             .collect();
@@ -222,20 +222,20 @@ pub fn place_min_error(
         let cost = |j: &Matrix3<f64>| objective.value(j).max(0.0).sqrt();
         let found = match spots.len() {
             0 => Some((cost(&Matrix3::zeros()), Vec::new(), 0.0)),
-            1 => best_single(&spots[0], &Matrix3::zeros(), lambda, &cost, &[], &spacing)
+            1 => best_single(&spots[0], &Matrix3::zeros(), lambda, &cost, &[], spacing)
                 .map(|(v, s)| (v, vec![s], 0.0)),
             2 => best_pair(
                 &spots[0],
                 &spots[1],
                 lambda,
                 &cost,
-                &spacing,
+                spacing,
                 Gap {
                     floor: objective.floor(),
                     share: SEARCH_GAP,
                 },
             ),
-            _ => descend(&spots, lambda, &cost, &spacing).map(|(v, p)| (v, p, f64::NAN)),
+            _ => descend(&spots, lambda, &cost, spacing).map(|(v, p)| (v, p, f64::NAN)),
         };
         let Some((value, picks, gap)) = found else {
             continue;
@@ -260,7 +260,7 @@ pub fn place_min_error(
         }
     }
     let best = best?;
-    let cells = polish(&best, regions, here, &spacing, lambda, pitch, &g);
+    let cells = polish(&best, regions, here, spacing, lambda, pitch, &g);
     let children = (0..n)
         .map(|i| match best.movers.iter().position(|&m| m == i) {
             Some(k) => moved(maps, here[i], cells[k], frame.parent_to, regions[i].size()),
@@ -295,17 +295,6 @@ fn spot_pitch(g: &GridGeometry) -> usize {
         cells as usize
     } else {
         1
-    }
-}
-
-/// Where the children of the cycle from `parent_from` to `parent_to` may stand
-/// together, on the step's maps.
-fn spacing_of(maps: &StepMaps, parent_from: Cell, parent_to: Cell) -> Spacing {
-    let g = maps.knowledge().geometry();
-    Spacing {
-        parents: vec![parent_from, parent_to],
-        radius: maps.params().child_radius / g.resolution,
-        marker: maps.params().marker_radius / g.resolution,
     }
 }
 

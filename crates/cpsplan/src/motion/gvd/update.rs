@@ -121,8 +121,10 @@ impl VoronoiField {
         };
         // The pairs of a cell read its own feature and those of its right and
         // upper neighbours: the changed cells and their left and lower
-        // neighbours are tested again, each once (a row's span and the next
-        // row's, one below it, merged).
+        // neighbours are tested again, each once. A changed row is tested over
+        // its span merged with the span of the changed row above it (its cells'
+        // upper neighbours); the row below a changed row is tested on its own
+        // only when it did not change itself.
         let span = |&(_, a, b): &(usize, usize, usize)| (a.saturating_sub(1), b);
         let mut retest_row = |y: usize, (lo, hi): (usize, usize)| {
             for x in lo..=hi {
