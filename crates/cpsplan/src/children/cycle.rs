@@ -114,7 +114,7 @@ pub fn frame_cycle(
     let g = *maps.knowledge().geometry();
     let mutual = maps.mutual_view(parent_from, parent_to);
     let regions: Vec<_> = reach.iter().map(|r| and_region(&mutual, r)).collect();
-    let spacing = Spacing::of(maps, parent_from, parent_to);
+    let spacing = spacing_of(maps, parent_from, parent_to);
     let mut stays: Vec<bool> = Vec::with_capacity(children.len());
     for (i, (&c, r)) in children.iter().zip(&regions).enumerate() {
         let clear = (0..i)
@@ -154,6 +154,17 @@ pub fn frame_cycle(
         usable,
         spacing,
     })
+}
+
+/// Where the children of the cycle from `parent_from` to `parent_to` may stand
+/// together, on the step's maps.
+pub(super) fn spacing_of(maps: &StepMaps, parent_from: Cell, parent_to: Cell) -> Spacing {
+    let g = maps.knowledge().geometry();
+    Spacing {
+        parents: vec![parent_from, parent_to],
+        radius: maps.params().child_radius / g.resolution,
+        marker: maps.params().marker_radius / g.resolution,
+    }
 }
 
 impl CycleFrame {

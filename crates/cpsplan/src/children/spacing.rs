@@ -6,7 +6,6 @@
 //! In: two children's cells, the parent's positions of the cycle, the children's
 //! body and marker radii in cells. Out: whether the two may stand there together.
 
-use super::maps::StepMaps;
 use crate::geom::Cell;
 
 /// Whether children at `a` and `b` may stand together: at least two body radii
@@ -51,17 +50,6 @@ pub(super) struct Spacing {
 }
 
 impl Spacing {
-    /// Where the children of the cycle from `parent_from` to `parent_to` may
-    /// stand together, on the step's maps.
-    pub(super) fn of(maps: &StepMaps, parent_from: Cell, parent_to: Cell) -> Self {
-        let g = maps.knowledge().geometry();
-        Self {
-            parents: vec![parent_from, parent_to],
-            radius: maps.params().child_radius / g.resolution,
-            marker: maps.params().marker_radius / g.resolution,
-        }
-    }
-
     /// Whether children at `a` and `b` may stand together.
     pub(super) fn ok(&self, a: Cell, b: Cell) -> bool {
         apart(a, b, &self.parents, self.radius, self.marker)

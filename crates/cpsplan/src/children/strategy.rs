@@ -29,7 +29,7 @@ use rayon::prelude::*;
 
 use super::and_region::{and_region, AndRegion, ChildReach};
 use super::clearance::clearances;
-use super::cycle::{CpsCycle, CycleChild, CycleFrame};
+use super::cycle::{spacing_of, CpsCycle, CycleChild, CycleFrame};
 use super::maps::StepMaps;
 use super::pair_search::{best_pair, best_single, descend, Gap, Spot, SEARCH_GAP};
 use super::placement::Placement;
@@ -53,7 +53,7 @@ pub fn place_random(
     rng: &mut ChaCha8Rng,
 ) -> CpsCycle {
     let g = *maps.knowledge().geometry();
-    let spacing = Spacing::of(maps, cycle.parent_from, cycle.parent_to);
+    let spacing = spacing_of(maps, cycle.parent_from, cycle.parent_to);
     let regions = regions(maps, cycle, reach);
     let mut out = cycle.clone();
     let mut taken: Vec<Cell> = cycle
