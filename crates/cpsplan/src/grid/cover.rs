@@ -160,6 +160,17 @@ mod tests {
             prop_assert_eq!(lazy_greedy(&sets, 40), plain_greedy(&sets, 40));
         }
 
+        /// Two covers in a row on one thread: the second starts from the flags
+        /// the first cleared.
+        #[test]
+        fn a_second_cover_starts_clear(
+            sets in prop::collection::vec(prop::collection::vec(0u32..300, 0..40), 1..25)
+        ) {
+            let plain = plain_greedy(&sets, 300);
+            prop_assert_eq!(&lazy_greedy(&sets, 300), &plain);
+            prop_assert_eq!(&lazy_greedy(&sets, 300), &plain);
+        }
+
         /// Stopped at a least gain: the plain greedy's picks up to the first
         /// that adds less.
         #[test]

@@ -275,6 +275,13 @@ pub fn open_tour(d: &[Vec<f64>]) -> Vec<usize> {
         order.push(at);
     }
     let eps = 1e-9;
+    // Rounding in a path's length stays far below this (at most the number of
+    // legs times the longest leg times 1e-9): see `best_insertion`.
+    let tolerance = d
+        .iter()
+        .flatten()
+        .try_fold(0.0f64, |m, &v| v.is_finite().then(|| m.max(v.abs())))
+        .map(|longest| 1e-9 * (1.0 + n as f64 * longest));
     let mut improved = true;
     let mut rounds = 0;
     while improved && rounds < 100 {
@@ -297,22 +304,62 @@ pub fn open_tour(d: &[Vec<f64>]) -> Vec<usize> {
         for i in 0..order.len() {
             let base = path_length(d, &order);
             let node = order.remove(i);
-            let mut best = (f64::INFINITY, i);
-            for k in 0..=order.len() {
-                order.insert(k, node);
-                let l = path_length(d, &order);
-                order.remove(k);
-                if l < best.0 {
-                    best = (l, k);
-                }
-            }
-            order.insert(best.1, node);
-            if best.0 + eps < base {
+            let (l, k) = best_insertion(d, &mut order, node, i, tolerance);
+            order.insert(k, node);
+            if l + eps < base {
                 improved = true;
             }
         }
     }
     order
+}
+
+/// Where Or-opt puts `node` back into `order`: the first place of least whole
+/// path length (`at` when none is finite), with that length.
+///
+/// Each place's length differs from the others' by its insertion cost, so the
+/// costs (O(1) each) single out the few places within `tolerance` of the least
+/// one, and only those are summed in full. Floating-point sums of the same
+/// path in another order differ by far less than `tolerance`, so the place and
+/// length are exactly those of summing every place in full; without a
+/// tolerance (a matrix with non-finite entries) every place is summed.
+fn best_insertion(
+    d: &[Vec<f64>],
+    order: &mut Vec<usize>,
+    node: usize,
+    at: usize,
+    tolerance: Option<f64>,
+) -> (f64, usize) {
+    let places = order.len() + 1;
+    let bound = tolerance.map(|tol| {
+        let least = (0..places)
+            .map(|k| insertion_cost(d, order, node, k))
+            .fold(f64::INFINITY, f64::min);
+        least + tol
+    });
+    let mut best = (f64::INFINITY, at);
+    for k in 0..places {
+        if bound.is_some_and(|b| insertion_cost(d, order, node, k) > b) {
+            continue;
+        }
+        order.insert(k, node);
+        let l = path_length(d, order);
+        order.remove(k);
+        if l < best.0 {
+            best = (l, k);
+        }
+    }
+    best
+}
+
+/// What putting `node` before `order[k]` (at the end when `k` is the length)
+/// adds to the open path's length.
+fn insertion_cost(d: &[Vec<f64>], order: &[usize], node: usize, k: usize) -> f64 {
+    let before = if k == 0 { 0 } else { order[k - 1] };
+    match order.get(k) {
+        Some(&after) => d[before][node] + d[node][after] - d[before][after],
+        None => d[before][node],
+    }
 }
 
 #[cfg(test)]
@@ -429,6 +476,82 @@ mod tests {
             }
             prop_assert!(length <= path_length(&d, &nearest_neighbour(&d)) + 1e-9);
             prop_assert!(length >= brute_force(&d) - 1e-9);
+        }
+    }
+
+    /// `open_tour` as first written: every Or-opt place summed in full.
+    fn open_tour_in_full(d: &[Vec<f64>]) -> Vec<usize> {
+        let mut order = nearest_neighbour(d);
+        let eps = 1e-9;
+        let mut improved = !order.is_empty();
+        let mut rounds = 0;
+        while improved && rounds < 100 {
+            improved = false;
+            rounds += 1;
+            for i in 0..order.len() {
+                for j in i + 1..order.len() {
+                    let prev = if i == 0 { 0 } else { order[i - 1] };
+                    let before =
+                        d[prev][order[i]] + order.get(j + 1).map_or(0.0, |&nx| d[order[j]][nx]);
+                    let after =
+                        d[prev][order[j]] + order.get(j + 1).map_or(0.0, |&nx| d[order[i]][nx]);
+                    if after + eps < before {
+                        order[i..=j].reverse();
+                        improved = true;
+                    }
+                }
+            }
+            for i in 0..order.len() {
+                let base = path_length(d, &order);
+                let node = order.remove(i);
+                let mut best = (f64::INFINITY, i);
+                for k in 0..=order.len() {
+                    order.insert(k, node);
+                    let l = path_length(d, &order);
+                    order.remove(k);
+                    if l < best.0 {
+                        best = (l, k);
+                    }
+                }
+                order.insert(best.1, node);
+                if best.0 + eps < base {
+                    improved = true;
+                }
+            }
+        }
+        order
+    }
+
+    proptest! {
+        /// Or-opt's places singled out by their insertion costs give the route
+        /// of summing every place in full, bit for bit: on a coarse lattice
+        /// (many equal lengths, stops on the same spot), with fractional
+        /// lengths, and with unreachable stops (infinite legs).
+        #[test]
+        fn or_opt_by_insertion_costs_is_the_full_sum(
+            pts in prop::collection::vec((0u8..6, 0u8..6), 2..14),
+            scale in prop::sample::select(vec![1.0, 0.1, 7.3, 1234.567]),
+            unreachable in prop::option::of(1usize..14),
+        ) {
+            let mut d: Vec<Vec<f64>> = pts
+                .iter()
+                .map(|a| {
+                    pts.iter()
+                        .map(|b| (a.0 as f64 - b.0 as f64).hypot(a.1 as f64 - b.1 as f64) * scale)
+                        .collect()
+                })
+                .collect();
+            if let Some(u) = unreachable.filter(|&u| u < pts.len()) {
+                for (k, row) in d.iter_mut().enumerate() {
+                    if k != u {
+                        row[u] = f64::INFINITY;
+                    }
+                }
+                for v in d[u].iter_mut().take(u) {
+                    *v = f64::INFINITY;
+                }
+            }
+            prop_assert_eq!(open_tour(&d), open_tour_in_full(&d));
         }
     }
 
