@@ -74,7 +74,6 @@ impl CoverageTracker {
         field: Option<&DistanceField>,
     ) -> Self {
         let g = truth.geometry();
-        let (w, h) = (g.width as i64, g.height as i64);
         let t = truth.cells();
         let mut role = vec![0u8; g.len()];
         let s = g.index(start);
@@ -94,27 +93,37 @@ impl CoverageTracker {
                 }
             }
         }
-        for i in 0..g.len() {
-            if role[i] & REACHABLE == 0 {
-                continue;
-            }
-            let (x, y) = ((i as i64) % w, (i as i64) / w);
-            for (dx, dy) in [(1, 0), (-1, 0), (0, 1), (0, -1)] {
-                let (nx, ny) = (x + dx, y + dy);
-                if nx < 0 || ny < 0 || nx >= w || ny >= h {
+        // The walls: solid cells that share a face with a reachable one.
+        let (w, h) = (g.width, g.height);
+        for y in 0..h {
+            for x in 0..w {
+                let i = y * w + x;
+                if role[i] & REACHABLE == 0 {
                     continue;
                 }
-                let j = (ny * w + nx) as usize;
-                if t[j] != CellState::Free {
-                    role[j] |= WALL;
+                let faces = [
+                    (x + 1 < w).then(|| i + 1),
+                    (x > 0).then(|| i - 1),
+                    (y + 1 < h).then(|| i + w),
+                    (y > 0).then(|| i - w),
+                ];
+                for j in faces.into_iter().flatten() {
+                    if t[j] != CellState::Free {
+                        role[j] |= WALL;
+                    }
                 }
             }
         }
-        let count = |bit: u8| role.iter().filter(|&&r| r & bit != 0).count();
+        let (mut free_total, mut wall_total, mut connected_total) = (0, 0, 0);
+        for &r in &role {
+            free_total += usize::from(r & REACHABLE != 0);
+            wall_total += usize::from(r & WALL != 0);
+            connected_total += usize::from(r & CONNECTED != 0);
+        }
         let mut me = Self {
-            free_total: count(REACHABLE),
-            wall_total: count(WALL),
-            connected_total: count(CONNECTED),
+            free_total,
+            wall_total,
+            connected_total,
             role,
             free_seen: 0,
             wall_seen: 0,
