@@ -229,6 +229,13 @@ pub(super) fn components(pw: usize, ph: usize, obstacle: &[bool]) -> Vec<u32> {
 /// steps the path search takes), written into `label` ([`NONE`] everywhere
 /// before, and left so off the skeleton); `cells`: the skeleton's cells in
 /// increasing index, which number the parts in the order of their first cell.
+///
+/// One pass in raster order joins each cell with its neighbours already
+/// passed (west, and the three of the row before), in a union-find over the
+/// cells' positions in `cells` whose roots are the parts' first cells; a
+/// second pass numbers the roots in order and labels every cell. Both passes
+/// read the map row by row, where a search from each part's first cell
+/// jumped along the skeleton.
 pub(super) fn edge_components(
     g: &GridGeometry,
     passable: &[bool],
@@ -236,38 +243,131 @@ pub(super) fn edge_components(
     label: &mut [u32],
     cells: &[usize],
 ) {
-    let (w, h) = (g.width as i64, g.height as i64);
-    let mut stack = Vec::new();
-    let mut next = 0u32;
-    for &start in cells {
-        if label[start] != NONE {
-            continue;
+    let w = g.width;
+    // Per position in `cells`: a smaller position of its part (itself at the
+    // root, the part's first cell).
+    let mut parent: Vec<u32> = Vec::with_capacity(cells.len());
+    let root = |parent: &mut [u32], mut k: u32| {
+        while parent[k as usize] != k {
+            let up = parent[parent[k as usize] as usize];
+            parent[k as usize] = up;
+            k = up;
         }
-        label[start] = next;
-        stack.push(start);
-        while let Some(i) = stack.pop() {
-            let (x, y) = ((i as i64) % w, (i as i64) / w);
-            for dy in -1..=1i64 {
-                for dx in -1..=1i64 {
-                    let (nx, ny) = (x + dx, y + dy);
-                    if nx < 0 || ny < 0 || nx >= w || ny >= h {
-                        continue;
-                    }
-                    let j = (ny * w + nx) as usize;
-                    if !skeleton[j] || label[j] != NONE {
-                        continue;
-                    }
-                    if dx != 0
-                        && dy != 0
-                        && (!passable[(y * w + nx) as usize] || !passable[(ny * w + x) as usize])
-                    {
-                        continue;
-                    }
-                    label[j] = next;
-                    stack.push(j);
-                }
+        k
+    };
+    for (k, &i) in cells.iter().enumerate() {
+        // Positions fit: a grid has fewer than 2³² cells.
+        let k = k as u32;
+        parent.push(k);
+        // While labelling, a passed skeleton cell's label holds its position.
+        label[i] = k;
+        let (x, y) = (i % w, i / w);
+        let mut join = |j: usize, parent: &mut Vec<u32>| {
+            if !skeleton[j] || label[j] == NONE {
+                return;
+            }
+            let (a, b) = (root(parent, label[j]), root(parent, k));
+            let (low, high) = (a.min(b), a.max(b));
+            parent[high as usize] = low;
+        };
+        if x > 0 {
+            join(i - 1, &mut parent);
+        }
+        if y > 0 {
+            let above = i - w;
+            join(above, &mut parent);
+            // A diagonal step needs both cells beside it passable.
+            if x > 0 && passable[i - 1] && passable[above] {
+                join(above - 1, &mut parent);
+            }
+            if x + 1 < w && passable[i + 1] && passable[above] {
+                join(above + 1, &mut parent);
             }
         }
-        next += 1;
+    }
+    // The parts numbered in the order of their first cells.
+    let mut number = vec![NONE; cells.len()];
+    let mut next = 0u32;
+    for (k, &i) in cells.iter().enumerate() {
+        let r = root(&mut parent, k as u32) as usize;
+        if r == k {
+            number[k] = next;
+            next += 1;
+        }
+        label[i] = number[r];
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geom::Point;
+    use proptest::prelude::*;
+
+    /// The parts found by a search from each part's first cell.
+    fn by_search(
+        g: &GridGeometry,
+        passable: &[bool],
+        skeleton: &[bool],
+        cells: &[usize],
+    ) -> Vec<u32> {
+        let (w, h) = (g.width as i64, g.height as i64);
+        let mut label = vec![NONE; g.len()];
+        let mut next = 0u32;
+        for &start in cells {
+            if label[start] != NONE {
+                continue;
+            }
+            label[start] = next;
+            let mut stack = vec![start];
+            while let Some(i) = stack.pop() {
+                let (x, y) = ((i as i64) % w, (i as i64) / w);
+                for dy in -1..=1i64 {
+                    for dx in -1..=1i64 {
+                        let (nx, ny) = (x + dx, y + dy);
+                        if nx < 0 || ny < 0 || nx >= w || ny >= h {
+                            continue;
+                        }
+                        let j = (ny * w + nx) as usize;
+                        if !skeleton[j] || label[j] != NONE {
+                            continue;
+                        }
+                        if dx != 0
+                            && dy != 0
+                            && (!passable[(y * w + nx) as usize]
+                                || !passable[(ny * w + x) as usize])
+                        {
+                            continue;
+                        }
+                        label[j] = next;
+                        stack.push(j);
+                    }
+                }
+            }
+            next += 1;
+        }
+        label
+    }
+
+    proptest! {
+        /// Random skeletons over random passable cells (skeleton cells need
+        /// not be passable, as the rule does not ask): the raster labels are
+        /// the search's, part numbers included.
+        #[test]
+        fn raster_parts_are_the_searchs(
+            w in 1usize..20,
+            h in 1usize..20,
+            bits in prop::collection::vec(0u8..16, 400),
+            open in prop::collection::vec(0u8..4, 400),
+            skeleton_share in 2u8..12,
+        ) {
+            let g = GridGeometry::new(w, h, 0.1, Point::default());
+            let skeleton: Vec<bool> = bits[..w * h].iter().map(|&b| b < skeleton_share).collect();
+            let passable: Vec<bool> = open[..w * h].iter().map(|&b| b != 0).collect();
+            let cells: Vec<usize> = (0..w * h).filter(|&i| skeleton[i]).collect();
+            let mut label = vec![NONE; w * h];
+            edge_components(&g, &passable, &skeleton, &mut label, &cells);
+            prop_assert_eq!(label, by_search(&g, &passable, &skeleton, &cells));
+        }
     }
 }
