@@ -262,7 +262,7 @@ pub(super) fn edge_components(
         // While labelling, a passed skeleton cell's label holds its position.
         label[i] = k;
         let (x, y) = (i % w, i / w);
-        let mut join = |j: usize, parent: &mut Vec<u32>| {
+        let join = |j: usize, parent: &mut [u32]| {
             if !skeleton[j] || label[j] == NONE {
                 return;
             }
