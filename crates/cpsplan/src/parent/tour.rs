@@ -285,21 +285,8 @@ pub fn open_tour(d: &[Vec<f64>]) -> Vec<usize> {
     let mut improved = true;
     let mut rounds = 0;
     while improved && rounds < 100 {
-        improved = false;
         rounds += 1;
-        // 2-opt: reverse order[i..=j].
-        for i in 0..order.len() {
-            for j in i + 1..order.len() {
-                let prev = if i == 0 { 0 } else { order[i - 1] };
-                let before =
-                    d[prev][order[i]] + order.get(j + 1).map_or(0.0, |&nx| d[order[j]][nx]);
-                let after = d[prev][order[j]] + order.get(j + 1).map_or(0.0, |&nx| d[order[i]][nx]);
-                if after + eps < before {
-                    order[i..=j].reverse();
-                    improved = true;
-                }
-            }
-        }
+        improved = two_opt(d, &mut order, eps);
         // Or-opt: move one stop elsewhere.
         for i in 0..order.len() {
             let base = path_length(d, &order);
@@ -312,6 +299,25 @@ pub fn open_tour(d: &[Vec<f64>]) -> Vec<usize> {
         }
     }
     order
+}
+
+/// One 2-opt pass over the open path `order` (nodes of `d`, from node 0):
+/// every stretch `order[i..=j]` whose reversal shortens the path by more than
+/// `eps` is reversed, in turn. Whether any was.
+fn two_opt(d: &[Vec<f64>], order: &mut [usize], eps: f64) -> bool {
+    let mut improved = false;
+    for i in 0..order.len() {
+        for j in i + 1..order.len() {
+            let prev = if i == 0 { 0 } else { order[i - 1] };
+            let before = d[prev][order[i]] + order.get(j + 1).map_or(0.0, |&nx| d[order[j]][nx]);
+            let after = d[prev][order[j]] + order.get(j + 1).map_or(0.0, |&nx| d[order[i]][nx]);
+            if after + eps < before {
+                order[i..=j].reverse();
+                improved = true;
+            }
+        }
+    }
+    improved
 }
 
 /// Where Or-opt puts `node` back into `order`: the first place of least whole
@@ -486,21 +492,8 @@ mod tests {
         let mut improved = !order.is_empty();
         let mut rounds = 0;
         while improved && rounds < 100 {
-            improved = false;
             rounds += 1;
-            for i in 0..order.len() {
-                for j in i + 1..order.len() {
-                    let prev = if i == 0 { 0 } else { order[i - 1] };
-                    let before =
-                        d[prev][order[i]] + order.get(j + 1).map_or(0.0, |&nx| d[order[j]][nx]);
-                    let after =
-                        d[prev][order[j]] + order.get(j + 1).map_or(0.0, |&nx| d[order[i]][nx]);
-                    if after + eps < before {
-                        order[i..=j].reverse();
-                        improved = true;
-                    }
-                }
-            }
+            improved = two_opt(d, &mut order, eps);
             for i in 0..order.len() {
                 let base = path_length(d, &order);
                 let node = order.remove(i);

@@ -121,10 +121,7 @@ impl Components {
                 }
                 let mut k = j;
                 while k < below.end && runs[k].1 <= a1 + 1 {
-                    let (ra, rb) = (root(parent, i as u32), root(parent, k as u32));
-                    if ra != rb {
-                        parent[ra.max(rb) as usize] = ra.min(rb);
-                    }
+                    unite(parent, i as u32, k as u32);
                     k += 1;
                 }
             }
@@ -155,6 +152,13 @@ fn root(parent: &mut [u32], mut i: u32) -> u32 {
         i = up;
     }
     i
+}
+
+/// Joins the trees of `a` and `b` in the union-find forest `parent`: the
+/// smaller root stays a root, so every root is its tree's least element.
+fn unite(parent: &mut [u32], a: u32, b: u32) {
+    let (ra, rb) = (root(parent, a), root(parent, b));
+    parent[ra.max(rb) as usize] = ra.min(rb);
 }
 
 /// Appends the runs of obstacle cells of row `y`.
@@ -247,14 +251,6 @@ pub(super) fn edge_components(
     // Per position in `cells`: a smaller position of its part (itself at the
     // root, the part's first cell).
     let mut parent: Vec<u32> = Vec::with_capacity(cells.len());
-    let root = |parent: &mut [u32], mut k: u32| {
-        while parent[k as usize] != k {
-            let up = parent[parent[k as usize] as usize];
-            parent[k as usize] = up;
-            k = up;
-        }
-        k
-    };
     for (k, &i) in cells.iter().enumerate() {
         // Positions fit: a grid has fewer than 2³² cells.
         let k = k as u32;
@@ -263,12 +259,9 @@ pub(super) fn edge_components(
         label[i] = k;
         let (x, y) = (i % w, i / w);
         let join = |j: usize, parent: &mut [u32]| {
-            if !skeleton[j] || label[j] == NONE {
-                return;
+            if skeleton[j] && label[j] != NONE {
+                unite(parent, label[j], k);
             }
-            let (a, b) = (root(parent, label[j]), root(parent, k));
-            let (low, high) = (a.min(b), a.max(b));
-            parent[high as usize] = low;
         };
         if x > 0 {
             join(i - 1, &mut parent);
