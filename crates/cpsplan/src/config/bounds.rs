@@ -173,6 +173,7 @@ pub const BOUNDS: &[Bound] = &[
         parent.frontier_min_size
     ),
     real!("parent.gain_scale", 1e-6, 1e6, "", parent.gain_scale),
+    real!("parent.travel_jitter", 0.0, 1.0, "", parent.travel_jitter),
     count!(
         "parent.min_frontier_cells",
         1.0,

@@ -132,6 +132,19 @@ pub struct ParentConfig {
     /// `frontier`: explore_lite's `min_frontier_size`, metres: smaller frontiers
     /// are ignored.
     pub frontier_min_size: f64,
+    /// Sensitivity studies (beyond the paper, 0 = off): the travel term `L` of
+    /// Eq. (1) and every leg of the tour multiplied by a fixed pseudo-random
+    /// factor in `[1, 1 + travel_jitter]` per cell (per pair of cells) and seed:
+    /// the error an approximate `L` with that relative bound may make
+    /// (`parent::TravelJitter`; docs/DESIGN-CHOICES.md "Plans against small
+    /// errors in L").
+    #[serde(skip_serializing_if = "is_zero")]
+    pub travel_jitter: f64,
+}
+
+/// Whether a value is exactly zero (an optional key left out of the records).
+fn is_zero(v: &f64) -> bool {
+    *v == 0.0
 }
 
 impl Default for ParentConfig {
@@ -163,6 +176,7 @@ impl Default for ParentConfig {
             frontier_potential_scale: 1e-3,
             frontier_gain_scale: 1.0,
             frontier_min_size: 0.5,
+            travel_jitter: 0.0,
         }
     }
 }

@@ -6,6 +6,7 @@
 
 use serde::{Deserialize, Serialize};
 
+use super::jitter::TravelJitter;
 use super::score::Terms;
 use crate::config::Config;
 use crate::geom::{Cell, Point};
@@ -138,7 +139,7 @@ pub(super) fn candidate_terms(
         reachable,
         // Guard: with no known obstacle the clearance is capped at the range.
         clearance: (trav.clearance_at(i) as f64).min(config.scanner.range),
-        travel: field.metres(i).unwrap_or(f64::INFINITY),
+        travel: field.metres(i).unwrap_or(f64::INFINITY) * TravelJitter::from_config(config).to(i),
         gain: c.s_cells,
     }
 }

@@ -22,12 +22,15 @@
 //!   (`--planner frontier`); `--planner gain` takes the candidate of largest `S`.
 //! - [`oracle_rate`], [`true_gain_m2`]: the oracle yardstick (`--planner
 //!   oracle`): the true gain per unit of campaign time.
+//! - [`TravelJitter`]: a fixed relative error on `L` for sensitivity studies
+//!   (`parent.travel_jitter`).
 
 mod band;
 mod border;
 mod candidate;
 mod fallback;
 mod frontier;
+mod jitter;
 mod kmeans;
 mod nearest_frontier;
 mod oracle;
@@ -43,6 +46,7 @@ pub use border::{border_cells, significant_border};
 pub use candidate::{Candidate, CandidateOrigin};
 pub use fallback::{fallback_candidate, frontier_cells, reachable_frontier, CPS_FALLBACK_TRIES};
 pub use frontier::Frontier;
+pub use jitter::TravelJitter;
 pub use kmeans::{kmeans, Clustering};
 pub use nearest_frontier::{frontier_goals, nearest_valid_cell, FrontierGoal};
 pub use oracle::{oracle_rate, true_gain_m2};

@@ -23,6 +23,7 @@ use super::candidate::{
     candidate_terms, fill_terms, new_candidate, set_gain, Candidate, CandidateOrigin,
 };
 use super::fallback::band_blocks;
+use super::jitter::TravelJitter;
 use crate::config::Config;
 use crate::geom::Cell;
 use crate::grid::{DistanceField, OccupancyGrid, Traversability};
@@ -111,10 +112,11 @@ pub(super) fn fallback(
             (gain > 0.0 && gain >= threshold_m2).then_some((i, gain))
         })
         .collect();
+    let jitter = TravelJitter::from_config(config);
     let (i, true_m2) = scored
         .into_iter()
         .map(|(i, m2)| {
-            let l = field.metres(i).unwrap_or(f64::INFINITY);
+            let l = field.metres(i).unwrap_or(f64::INFINITY) * jitter.to(i);
             (i, m2, oracle_rate(m2, l, config))
         })
         .max_by(|a, b| a.2.total_cmp(&b.2).then(b.0.cmp(&a.0)))

@@ -25,6 +25,7 @@
 use std::sync::Arc;
 
 use super::candidate::{candidate_terms, fill_terms, set_gain, Candidate};
+use super::jitter::TravelJitter;
 use crate::config::Config;
 use crate::geom::Cell;
 use crate::grid::cover::lazy_greedy_while;
@@ -73,7 +74,8 @@ impl TourRound<'_> {
             return None;
         }
         let cells: Vec<Cell> = stops.iter().map(|&i| candidates[i].cell).collect();
-        let d = travel_matrix(g, self.field, &self.trav.passable, &cells);
+        let mut d = travel_matrix(g, self.field, &self.trav.passable, &cells);
+        jitter_legs(&mut d, g, &cells, TravelJitter::from_config(self.config));
         let mut order = open_tour(&d);
         // Local choice among the first stops: area per (scan + travel).
         let pc = &self.config.parent;
@@ -243,6 +245,25 @@ pub fn travel_matrix(
 }
 
 /// The length of the open path `order` (nodes of `d`) from node 0.
+/// Multiplies the legs of a [`travel_matrix`] over `stops` by `jitter`'s
+/// factors (the parent's row and column by the travel to each stop).
+fn jitter_legs(d: &mut [Vec<f64>], g: &GridGeometry, stops: &[Cell], jitter: TravelJitter) {
+    if jitter.is_exact() {
+        return;
+    }
+    let index: Vec<usize> = stops.iter().map(|&c| g.index(c)).collect();
+    for (a, &ia) in index.iter().enumerate() {
+        let f = jitter.to(ia);
+        d[0][a + 1] *= f;
+        d[a + 1][0] *= f;
+        for (b, &ib) in index.iter().enumerate().skip(a + 1) {
+            let f = jitter.between(ia, ib);
+            d[a + 1][b + 1] *= f;
+            d[b + 1][a + 1] *= f;
+        }
+    }
+}
+
 fn path_length(d: &[Vec<f64>], order: &[usize]) -> f64 {
     let mut at = 0;
     let mut sum = 0.0;
