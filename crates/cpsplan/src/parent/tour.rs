@@ -244,7 +244,6 @@ pub fn travel_matrix(
     d
 }
 
-/// The length of the open path `order` (nodes of `d`) from node 0.
 /// Multiplies the legs of a [`travel_matrix`] over `stops` by `jitter`'s
 /// factors (the parent's row and column by the travel to each stop).
 fn jitter_legs(d: &mut [Vec<f64>], g: &GridGeometry, stops: &[Cell], jitter: TravelJitter) {
@@ -264,6 +263,7 @@ fn jitter_legs(d: &mut [Vec<f64>], g: &GridGeometry, stops: &[Cell], jitter: Tra
     }
 }
 
+/// The length of the open path `order` (nodes of `d`) from node 0.
 fn path_length(d: &[Vec<f64>], order: &[usize]) -> f64 {
     let mut at = 0;
     let mut sum = 0.0;
