@@ -102,7 +102,7 @@ pub(super) fn canonical<T: Copy>(
     scratch.queue.clear();
     let mut sweep = Sweep {
         flags,
-        cost: vec![UNREACHED; n],
+        cost: super::unreached_costs(n),
         queue: &mut scratch.queue,
         limit: max_cost.min(UNREACHED - 1),
     };

@@ -7,7 +7,8 @@
 //! cell), so it is written for speed: canonical Dijkstra (module `canonical`) writes
 //! the costs along straight and diagonal rays and queues only the jump points
 //! where a ray passes the end of a wall, and its working buffers are kept per
-//! thread between sweeps. Its costs are the exact shortest-path costs, so the
+//! thread between sweeps (the cost buffer of a dropped field too, for the next
+//! sweep on any thread). Its costs are the exact shortest-path costs, so the
 //! field equals a plain Dijkstra's. `reached_within` is Dial's bucket-queue
 //! Dijkstra that touches only what it reaches, for short sweeps.
 
@@ -72,6 +73,35 @@ const KEEP_CELLS: usize = 1 << 24;
 
 thread_local! {
     static SCRATCH: std::cell::RefCell<canonical::Scratch> = std::cell::RefCell::default();
+}
+
+/// A dropped field's cost buffer, for the next sweep (on any thread: a field
+/// is often dropped on another thread than the one that swept it): a fresh
+/// buffer of a large grid costs a page fault per 4 KiB.
+static SPARE_COST: std::sync::Mutex<Vec<u32>> = std::sync::Mutex::new(Vec::new());
+
+impl Drop for DistanceField {
+    fn drop(&mut self) {
+        let cost = std::mem::take(&mut self.cost);
+        if cost.capacity() > 0 && cost.capacity() <= KEEP_CELLS {
+            if let Ok(mut spare) = SPARE_COST.lock() {
+                if spare.capacity() < cost.capacity() {
+                    *spare = cost;
+                }
+            }
+        }
+    }
+}
+
+/// `n` cells of [`UNREACHED`], in the spare buffer if there is one.
+fn unreached_costs(n: usize) -> Vec<u32> {
+    let mut cost = SPARE_COST
+        .lock()
+        .map(|mut s| std::mem::take(&mut *s))
+        .unwrap_or_default();
+    cost.clear();
+    cost.resize(n, UNREACHED);
+    cost
 }
 
 /// Dijkstra from `sources` over cells with `passable[i]`, expanding no cell whose
@@ -289,7 +319,7 @@ mod tests {
             let passable: Vec<bool> = (0..g.len()).map(|i| bits[i] >= walls).collect();
             let sources: Vec<usize> = sources.iter().map(|&s| s % g.len()).collect();
             let f = sweep(&g, &passable, &sources, max_cost);
-            proptest::prop_assert_eq!(f.cost, reference(&g, &passable, &sources, max_cost));
+            proptest::prop_assert_eq!(&f.cost, &reference(&g, &passable, &sources, max_cost));
         }
 
         /// The sweep that touches only what it reaches finds exactly the cells the
