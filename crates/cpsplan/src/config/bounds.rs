@@ -174,6 +174,7 @@ pub const BOUNDS: &[Bound] = &[
     ),
     real!("parent.gain_scale", 1e-6, 1e6, "", parent.gain_scale),
     real!("parent.travel_jitter", 0.0, 1.0, "", parent.travel_jitter),
+    real!("parent.horizon", 0.0, 1.0e6, "m", parent.horizon),
     count!(
         "parent.min_frontier_cells",
         1.0,

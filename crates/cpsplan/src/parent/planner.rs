@@ -165,7 +165,8 @@ pub struct Kept<'a> {
 }
 
 /// [`plan_parent_with_reach`] with the state an episode keeps up to date for
-/// `knowledge` ([`Kept`]; `None`: computed here).
+/// `knowledge` ([`Kept`]; `None`: computed here). With a travel horizon
+/// (`parent.horizon`), the round first weighs only the candidates within it.
 pub fn plan_parent_with_field(
     knowledge: &OccupancyGrid,
     parent: Cell,
@@ -173,6 +174,34 @@ pub fn plan_parent_with_field(
     rng: &mut ChaCha8Rng,
     kept: Option<Kept<'_>>,
 ) -> (ParentPlan, ParentReach) {
+    let horizon_m = config.parent.horizon;
+    if horizon_m > 0.0 {
+        // The same samples either way: the wider round starts from the same
+        // random state.
+        let saved = rng.clone();
+        let h = DistanceField::cost_of(horizon_m, knowledge.geometry().resolution);
+        if let Some(round) = plan_within(knowledge, parent, config, rng, kept, Some(h)) {
+            return round;
+        }
+        *rng = saved;
+    }
+    match plan_within(knowledge, parent, config, rng, kept, None) {
+        Some(round) => round,
+        None => unreachable!("a round without a horizon always ends in a decision"),
+    }
+}
+
+/// One planning round; with a `horizon` (travel cost units), only the
+/// candidates within it are weighed, the sweep stops at twice it, and `None`
+/// means none of them is worth a scan (the caller plans without it).
+fn plan_within(
+    knowledge: &OccupancyGrid,
+    parent: Cell,
+    config: &Config,
+    rng: &mut ChaCha8Rng,
+    kept: Option<Kept<'_>>,
+    horizon: Option<u32>,
+) -> Option<(ParentPlan, ParentReach)> {
     let g = *knowledge.geometry();
     let pc = &config.parent;
     let range_cells = config.range_cells();
@@ -191,7 +220,8 @@ pub fn plan_parent_with_field(
                     None => GainEstimate::new(knowledge, config),
                 },
             );
-            let field = sweep(&g, &trav.passable, &[g.index(parent)], UNREACHED);
+            let limit = horizon.map_or(UNREACHED, |h| h.saturating_mul(2));
+            let field = sweep(&g, &trav.passable, &[g.index(parent)], limit);
             (trav, field, gain)
         },
         || {
@@ -225,7 +255,7 @@ pub fn plan_parent_with_field(
         if !frontier.border().is_empty() {
             plan.decision = Decision::FrontierBelowThreshold;
         }
-        return (plan, ParentReach { trav, field, gain });
+        return Some((plan, ParentReach { trav, field, gain }));
     };
     let band_cells = frontier.band();
     plan.band_cells = band_cells.len();
@@ -235,7 +265,9 @@ pub fn plan_parent_with_field(
     plan.samples = samples.iter().map(|&p| to_point(p)).collect();
 
     // Step 4: centroids as candidates, snapped to a valid member sample if needed.
-    let valid = |i: usize| trav.traversable[i] && field.reached(i);
+    let valid = |i: usize| {
+        trav.traversable[i] && field.reached(i) && horizon.is_none_or(|h| field.cost[i] <= h)
+    };
     let cell_of = |p: [f64; 2]| Cell::new(p[0] as usize, p[1] as usize);
     let mut members: Vec<Vec<usize>> = vec![Vec::new(); clustering.centroids.len()];
     for (s, &a) in clustering.assignment.iter().enumerate() {
@@ -333,6 +365,9 @@ pub fn plan_parent_with_field(
         worth.push(c.r == 1 && gain.worth_a_scan(s));
     }
     if !worth.iter().any(|&w| w) {
+        if horizon.is_some() {
+            return None;
+        }
         if let Some(cell) =
             frontier_cells(knowledge, band_cells, &trav, &field, config, &gain).next()
         {
@@ -406,5 +441,5 @@ pub fn plan_parent_with_field(
             }
         }
     }
-    (plan, ParentReach { trav, field, gain })
+    Some((plan, ParentReach { trav, field, gain }))
 }
